@@ -1,0 +1,108 @@
+// `cutwork scenes`, `cutwork show NAME`, `cutwork check FILE`.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "host/cli/commands.h"
+#include "host/mesh/surface_mesh.h"
+#include "host/scene/scene.h"
+
+namespace cutwork::cli {
+
+void add_scenes_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("scenes", "List the built-in scenes, one line each");
+  cmd->callback([] {
+    for (const auto& s : builtin_scenes()) std::cout << fmt::format("{:<22} {}\n", s.name, s.description);
+  });
+}
+
+void add_show_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "show", "Print a built-in scene's complete JSON (every default filled in), ready to copy and edit");
+  auto name = std::make_shared<std::string>();
+  cmd->add_option("NAME", *name, "built-in scene name (see `cutwork scenes`)")->required();
+  cmd->callback([name] {
+    const Scene scene = parse_scene(builtin_scene_json(*name), "builtin:" + *name);
+    std::cout << scene_to_json(scene).dump(2) << "\n";
+  });
+}
+
+namespace {
+const char* entity_word(Entity e) {
+  switch (e) {
+    case Entity::Vertices: return "vertices";
+    case Entity::BoundaryVertices: return "boundary vertices";
+    case Entity::Edges: return "edges";
+    case Entity::BoundaryEdges: return "boundary edges";
+    case Entity::Faces: return "faces";
+  }
+  return "";
+}
+const char* load_word(LoadKind k) {
+  switch (k) {
+    case LoadKind::Point: return "point";
+    case LoadKind::Edge: return "edge";
+    case LoadKind::Area: return "area";
+    case LoadKind::Pressure: return "pressure";
+    case LoadKind::SelfWeight: return "self-weight";
+  }
+  return "";
+}
+
+void print_mesh(const char* label, const SurfaceMesh& m) {
+  const Vec3 lo = m.bbox_min(), hi = m.bbox_max();
+  std::cout << fmt::format(
+      "{}: {} vertices, {} faces, {} edges, {} boundary loop(s), Euler characteristic {}, {} component(s)\n"
+      "  bounding box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}], mean edge {:.4g} m, min angle {:.1f} deg\n",
+      label, m.num_vertices(), m.num_faces(), m.num_edges(), m.boundary_loops().size(),
+      m.euler_characteristic(), m.num_components(), lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+      m.mean_edge_length(), min_angle(m) * 180.0 / M_PI);
+}
+}  // namespace
+
+void add_check_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "check", "Validate a scene (.json), a built-in scene name or a mesh file and print a summary");
+  auto what = std::make_shared<std::string>();
+  cmd->add_option("FILE", *what, "scene file, built-in scene name, or mesh (.obj .ply .off .stl)")->required();
+  cmd->callback([what] {
+    std::string notice;
+    const Scene scene = load_scene(*what, &notice);
+    if (!notice.empty()) std::cout << "note: " << notice << "\n";
+    const SceneMeshes meshes = build_scene_meshes(scene);
+    std::cout << "scene " << scene.name << (scene.description.empty() ? "" : ": " + scene.description) << "\n";
+    print_mesh("base mesh", meshes.base);
+    if (meshes.sim_is_base)
+      std::cout << "simulation mesh: the base mesh\n";
+    else
+      print_mesh("simulation mesh", meshes.sim);
+    const LoadCase lc = resolve_load_case(scene, meshes.sim);
+    int fixed = 0, clamped = 0;
+    for (size_t v = 0; v < lc.fixed.size(); ++v) {
+      fixed += lc.fixed[v];
+      clamped += lc.clamped[v];
+    }
+    std::cout << fmt::format("supports: {} fixed vertices ({} clamped)\n", fixed, clamped);
+    for (const auto& sp : scene.supports)
+      std::cout << fmt::format("  {} at {} ({} {})\n", sp.kind == SupportKind::Clamped ? "clamped" : "pinned",
+                               sp.select.json_path, select_entities(sp.select, meshes.sim).size(),
+                               entity_word(sp.select.entity));
+    std::cout << "loads:\n";
+    for (const auto& l : scene.loads) {
+      if (l.kind == LoadKind::SelfWeight)
+        std::cout << fmt::format("  self-weight, g = [{:.4g}, {:.4g}, {:.4g}] m/s^2\n", l.gravity[0],
+                                 l.gravity[1], l.gravity[2]);
+      else
+        std::cout << fmt::format("  {} load at {} ({} {})\n", load_word(l.kind), l.select.json_path,
+                                 select_entities(l.select, meshes.sim).size(), entity_word(l.select.entity));
+    }
+    const Vec3 total = lc.forces.colwise().sum().transpose();
+    std::cout << fmt::format("  total of the fixed loads: [{:.4g}, {:.4g}, {:.4g}] N\n", total[0], total[1],
+                             total[2]);
+    std::cout << fmt::format("stencil shapes: {}\n", scene.shapes.size());
+    std::cout << "ok\n";
+  });
+}
+
+}  // namespace cutwork::cli

@@ -1,0 +1,160 @@
+// `cutwork simulate [SCENE|NAME|MESH] [--stencils FILE] --out DIR`: the static equilibrium of a
+// scene's shell under its supports and loads (§5.1), with the quantities the structural objectives
+// use, written as DIR/report.json and DIR/fields.ply (per-face α and W on the simulation mesh).
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "host/cli/cli_common.h"
+#include "host/cli/commands.h"
+#include "host/core/atomic_file.h"
+#include "host/core/error.h"
+#include "host/io/json_io.h"
+#include "host/mesh/mesh_io.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/objective/structural_quantities.h"
+
+namespace cutwork::cli {
+
+namespace {
+
+struct SimulateOptions {
+  RunOptions run;
+  std::string stencils;
+};
+
+void run_simulate(const SimulateOptions& opts) {
+  if (!opts.stencils.empty())
+    throw InputError("--stencils " + opts.stencils +
+                     ": simulating a stenciled design is not supported yet (it needs the stencils.json "
+                     "format of the pattern-synthesis issue); run without --stencils to simulate the uncut "
+                     "shell");
+  auto threads = limit_threads(opts.run.threads);
+  Timings timings;
+  Stopwatch total;
+  Stopwatch sw;
+  // Notes are held back until the run succeeds, so that a failure prints exactly one line.
+  std::vector<std::string> notes;
+  std::string notice;
+  const Scene scene = load_scene(opts.run.scene, &notice);
+  if (!notice.empty()) notes.push_back(notice);
+  timings.add("scene", sw.seconds());
+
+  sw.restart();
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  timings.add("meshes", sw.seconds());
+
+  sw.restart();
+  const LoadCase load_case = resolve_load_case(scene, meshes.sim);
+  timings.add("load_case", sw.seconds());
+
+  sw.restart();
+  const solvers::ShellModel model(meshes.sim, scene.material, load_case);
+  timings.add("model", sw.seconds());
+
+  solvers::NewtonSettings settings;
+  settings.log = [&notes](const std::string& line) { notes.push_back(line); };
+  solvers::EquilibriumSolver solver(model, settings);
+  timings.add("analysis", solver.analysis_seconds());
+
+  // The uncut shell: every triangle full. (A design's stencils set α < 1 once --stencils lands.)
+  const Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
+  sw.restart();
+  const solvers::EquilibriumStats& stats = solver.solve(alpha);
+  timings.add("equilibrium", sw.seconds());
+  timings.add("assembly", stats.assembly_seconds);
+  timings.add("factorization", stats.factorization_seconds);
+  timings.add("solve", stats.solve_seconds);
+  timings.add("line_search", stats.line_search_seconds);
+
+  sw.restart();
+  const solvers::EquilibriumSummary summary = solvers::summarize_equilibrium(model, solver.positions(), alpha);
+  timings.add("quantities", sw.seconds());
+  timings.add("total", total.seconds());
+
+  nlohmann::json report = base_report(scene, meshes, timings);
+  report["equilibrium"] = {
+      {"max_displacement", summary.max_displacement},
+      {"max_displacement_vertex", summary.max_displacement_vertex},
+      {"strain_energy", summary.strain_energy},
+      {"compliance", summary.compliance},
+      {"W_max", summary.W_max},
+      {"W_max_face", summary.W_max_face},
+      {"newton_iterations", stats.newton_iterations},
+      {"residual", stats.residual},
+      {"converged", stats.converged},
+      {"stable", stats.stable},
+      {"load_norm", stats.load_norm},
+      {"factorizations", stats.factorizations},
+      {"shifted_factorizations", stats.shifted_factorizations},
+      {"units", {{"max_displacement", "m"}, {"strain_energy", "J"}, {"compliance", "J"}, {"W_max", "J/m^2"},
+                 {"load_norm", "N"}, {"residual", "force residual / load norm"}}}};
+  const solvers::ShellStiffness& k = model.stiffness();
+  report["material"] = {{"youngs_modulus", scene.material.youngs_modulus},
+                        {"poisson_ratio", scene.material.poisson_ratio},
+                        {"thickness", scene.material.thickness},
+                        {"density", scene.material.density},
+                        {"bending_stiffness", k.bending}};
+  int fixed = 0, clamped = 0;
+  for (int v = 0; v < model.num_vertices(); ++v) {
+    fixed += model.fixed()[v] ? 1 : 0;
+    clamped += model.load_case().clamped[v] ? 1 : 0;
+  }
+  const solvers::CholmodSolver& chol = solver.linear_solver();
+  report["solver"] = {{"dofs", model.num_dofs()},
+                      {"fixed_vertices", fixed},
+                      {"clamped_vertices", clamped},
+                      {"membranes", model.num_faces()},
+                      {"hinges", model.hinges().size()},
+                      {"clamp_hinges", model.clamp_hinges().size()},
+                      {"matrix_nonzeros", model.assembly().num_nonzeros()},
+                      {"factor_nonzeros", chol.factor_nonzeros()},
+                      {"ordering", chol.ordering()},
+                      {"supernodal", chol.supernodal()},
+                      {"assembly_colours", model.assembly().colours().size()}};
+  report["fill_ratio"] = {{"source", "uncut"}, {"min", alpha.minCoeff()}, {"mean", alpha.mean()}};
+
+  // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
+  const RowMatX3d u = solver.displacements();
+  const Eigen::VectorXd un = u.rowwise().norm();
+  Eigen::VectorXd face_u(model.num_faces());
+  for (int f = 0; f < model.num_faces(); ++f) {
+    const auto& F = meshes.sim.faces();
+    face_u[f] = (un[F(f, 0)] + un[F(f, 1)] + un[F(f, 2)]) / 3.0;
+  }
+
+  // Everything is computed before anything is written: a failed run leaves no partial output.
+  const std::filesystem::path out(opts.run.out);
+  ensure_directory(out);
+  write_ply_with_face_fields(out / "fields.ply", meshes.sim,
+                             {{"alpha", alpha}, {"W", summary.energy_density}, {"displacement", face_u}});
+  write_json_atomic(out / "report.json", report);
+  for (const std::string& note : notes) say(opts.run, "note: " + note);
+  say(opts.run, fmt::format("cutwork simulate: {}: {} triangles, {} DOFs; max displacement {:.4g} m, strain "
+                            "energy {:.4g} J, compliance {:.4g} J, W_max {:.4g} J/m^2 ({} Newton iterations); "
+                            "wrote {}",
+                            scene.name, model.num_faces(), model.num_dofs(), summary.max_displacement,
+                            summary.strain_energy, summary.compliance, summary.W_max, stats.newton_iterations,
+                            (out / "report.json").string()));
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "simulate",
+      "Solve the static equilibrium of a scene's shell under its supports and loads and write DIR/report.json "
+      "(max displacement, strain energy, compliance, W_max, Newton statistics, timings) and DIR/fields.ply "
+      "(per-face alpha, energy density W and displacement on the simulation mesh)");
+  auto opts = std::make_shared<SimulateOptions>();
+  add_run_options(*cmd, opts->run, "plate");
+  cmd->add_option("--stencils", opts->stencils,
+                  "a design's stencils.json: simulate the stenciled shell (fill ratios) instead of the uncut one");
+  cmd->callback([opts] { run_simulate(*opts); });
+}
+
+}  // namespace cutwork::cli

@@ -1,0 +1,308 @@
+#include "host/mesh/surface_mesh.h"
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include "host/core/error.h"
+
+namespace cutwork {
+
+namespace {
+
+/// Key of the undirected edge {a, b}: both indices packed, smaller one first.
+std::uint64_t edge_key(int a, int b) {
+  const auto lo = std::uint32_t(std::min(a, b)), hi = std::uint32_t(std::max(a, b));
+  return (std::uint64_t(lo) << 32) | hi;
+}
+
+/// Key of a face's vertex set (order-free), used to find duplicate faces.
+struct TriKey {
+  std::array<int, 3> v;
+  bool operator==(const TriKey& o) const { return v == o.v; }
+};
+struct TriKeyHash {
+  std::size_t operator()(const TriKey& k) const {
+    std::uint64_t h = 1469598103934665603ull;
+    for (int x : k.v) h = (h ^ std::uint32_t(x)) * 1099511628211ull;
+    return std::size_t(h);
+  }
+};
+
+/// Union-find with path halving, for connected components.
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+/// A face is "zero area" when twice its area is below this fraction of its longest edge
+/// squared: collinear vertices give a cross product of round-off size (~1e-16 l²), and a
+/// sliver thinner than 1e-12 of its length cannot carry a meaningful stiffness either.
+constexpr double kZeroAreaRelative = 1e-12;
+
+}  // namespace
+
+SurfaceMesh::SurfaceMesh(RowMatX3d vertices, RowMatX3i faces, const std::string& what)
+    : m_vertices(std::move(vertices)), m_faces(std::move(faces)) {
+  build(what);
+}
+
+void SurfaceMesh::build(const std::string& what) {
+  const int nv = num_vertices(), nf = num_faces();
+  auto fail = [&](const std::string& problem) { throw InputError(what + ": " + problem); };
+
+  // ---- validation, cheapest and most basic problems first -------------------------------
+  if (nf == 0) fail("no faces");
+  for (int v = 0; v < nv; ++v)
+    if (!m_vertices.row(v).allFinite()) fail(fmt::format("vertex {} has a non-finite coordinate", v));
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (m_faces(f, k) < 0 || m_faces(f, k) >= nv)
+        fail(fmt::format("face {} index {} out of range [0,{})", f, m_faces(f, k), nv));
+  for (int f = 0; f < nf; ++f) {
+    const int a = m_faces(f, 0), b = m_faces(f, 1), c = m_faces(f, 2);
+    if (a == b || a == c) fail(fmt::format("face {} repeats vertex {}", f, a));
+    if (b == c) fail(fmt::format("face {} repeats vertex {}", f, b));
+  }
+
+  m_face_areas.resize(nf);
+  m_face_normals.resize(nf, 3);
+  RowMatX3d weighted(nf, 3);  // 2·area·normal per face, reused for the vertex normals
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 a = m_vertices.row(m_faces(f, 0)), b = m_vertices.row(m_faces(f, 1)),
+               c = m_vertices.row(m_faces(f, 2));
+    const Vec3 n = (b - a).cross(c - a);
+    const double twice_area = n.norm();
+    const double longest2 =
+        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    if (!(twice_area > kZeroAreaRelative * longest2)) fail(fmt::format("face {} has zero area", f));
+    m_face_areas[f] = 0.5 * twice_area;
+    m_face_normals.row(f) = n / twice_area;
+    weighted.row(f) = n;
+  }
+
+  {
+    std::unordered_map<TriKey, int, TriKeyHash> seen;
+    seen.reserve(std::size_t(nf) * 2);
+    for (int f = 0; f < nf; ++f) {
+      TriKey key{{m_faces(f, 0), m_faces(f, 1), m_faces(f, 2)}};
+      std::sort(key.v.begin(), key.v.end());
+      auto [it, inserted] = seen.emplace(key, f);
+      if (!inserted) fail(fmt::format("faces {} and {} are duplicates", it->second, f));
+    }
+  }
+
+  // ---- edges: numbered in order of first appearance (face-major), so the numbering is
+  // deterministic and independent of the hash map's iteration order ---------------------
+  std::unordered_map<std::uint64_t, int> edge_index;
+  edge_index.reserve(std::size_t(nf) * 2);
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 2>> edge_faces;
+  std::vector<int> edge_face_count;
+  edges.reserve(std::size_t(nf) * 3 / 2 + 3);
+  m_face_edges.resize(nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = m_faces(f, k), b = m_faces(f, (k + 1) % 3);
+      auto [it, inserted] = edge_index.emplace(edge_key(a, b), int(edges.size()));
+      const int e = it->second;
+      if (inserted) {
+        edges.push_back({std::min(a, b), std::max(a, b)});
+        edge_faces.push_back({f, -1});
+        edge_face_count.push_back(1);
+      } else {
+        if (edge_face_count[e] == 1) edge_faces[e][1] = f;
+        ++edge_face_count[e];
+      }
+      m_face_edges(f, k) = e;
+    }
+  }
+  const int ne = int(edges.size());
+  for (int e = 0; e < ne; ++e) {
+    if (edge_face_count[e] <= 2) continue;
+    std::string faces_on_edge;  // error path only: a linear scan is fine
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k)
+        if (m_face_edges(f, k) == e) faces_on_edge += (faces_on_edge.empty() ? "" : ", ") + std::to_string(f);
+    fail(fmt::format("edge ({},{}) is shared by {} faces (non-manifold): faces {}", edges[e][0],
+                     edges[e][1], edge_face_count[e], faces_on_edge));
+  }
+
+  m_edges.resize(ne, 2);
+  m_edge_faces.resize(ne, 2);
+  for (int e = 0; e < ne; ++e) {
+    m_edges(e, 0) = edges[e][0], m_edges(e, 1) = edges[e][1];
+    m_edge_faces(e, 0) = edge_faces[e][0], m_edge_faces(e, 1) = edge_faces[e][1];
+  }
+
+  // Local slot k of edge e in face f (the edge runs faces(f,k) -> faces(f,k+1)).
+  auto slot_of = [&](int f, int e) {
+    for (int k = 0; k < 3; ++k)
+      if (m_face_edges(f, k) == e) return k;
+    return -1;  // unreachable: e is an edge of f by construction
+  };
+
+  // ---- orientation and hinges ------------------------------------------------------------
+  m_hinges.clear();
+  m_hinges.reserve(ne);
+  for (int e = 0; e < ne; ++e) {
+    const int f0 = m_edge_faces(e, 0), f1 = m_edge_faces(e, 1);
+    if (f1 < 0) continue;
+    const int k0 = slot_of(f0, e), k1 = slot_of(f1, e);
+    Hinge h;
+    h.edge = e;
+    h.face[0] = f0, h.face[1] = f1;
+    h.v[0] = m_faces(f0, k0);
+    h.v[1] = m_faces(f0, (k0 + 1) % 3);
+    h.v[2] = m_faces(f0, (k0 + 2) % 3);
+    // A consistently oriented neighbour walks the shared edge the other way: v1 -> v0.
+    if (m_faces(f1, k1) != h.v[1])
+      fail(fmt::format("faces {} and {} both use edge {}->{} in the same direction (inconsistent "
+                       "orientation; flip one of them)",
+                       f0, f1, h.v[0], h.v[1]));
+    h.v[3] = m_faces(f1, (k1 + 2) % 3);
+    m_hinges.push_back(h);
+  }
+
+  // ---- boundary loops: each boundary edge is used by its face as a → b with the surface on
+  // the left, so chaining those directed edges gives loops oriented like the faces. At a
+  // vertex where several boundary fans meet (a "bowtie") the successor is found by turning
+  // around the vertex inside the fan of the incoming edge, which keeps every loop simple.
+  m_boundary_loops.clear();
+  m_is_boundary_vertex.assign(nv, false);
+  std::vector<bool> used(ne, false);
+  for (int e0 = 0; e0 < ne; ++e0) {
+    if (m_edge_faces(e0, 1) >= 0 || used[e0]) continue;
+    std::vector<int> loop;
+    int e = e0;
+    int f = m_edge_faces(e, 0);
+    int k = slot_of(f, e);
+    while (!used[e]) {
+      used[e] = true;
+      loop.push_back(m_faces(f, k));
+      m_is_boundary_vertex[m_faces(f, k)] = true;
+      // The edge leaving b = faces(f, k+1) inside f is slot j = k+1; rotate across interior
+      // edges until a boundary edge leaving b is found.
+      const int b = m_faces(f, (k + 1) % 3);
+      int j = (k + 1) % 3;
+      for (int guard = 0; guard <= nf; ++guard) {
+        const int ej = m_face_edges(f, j);
+        const int g = m_edge_faces(ej, 0) == f ? m_edge_faces(ej, 1) : m_edge_faces(ej, 0);
+        if (g < 0) break;
+        f = g;
+        j = 0;
+        while (m_faces(f, j) != b) ++j;
+      }
+      e = m_face_edges(f, j);
+      k = j;
+    }
+    m_boundary_loops.push_back(std::move(loop));
+  }
+
+  // ---- vertex normals (area-weighted), components -----------------------------------------
+  m_vertex_normals = RowMatX3d::Zero(nv, 3);
+  std::vector<int> first_face(nv, -1);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = m_faces(f, k);
+      m_vertex_normals.row(v) += weighted.row(f);
+      if (first_face[v] < 0) first_face[v] = f;
+    }
+  for (int v = 0; v < nv; ++v) {
+    const double len = m_vertex_normals.row(v).norm();
+    if (first_face[v] < 0)
+      continue;  // unreferenced: no normal (left zero)
+    else if (len > 1e-300)
+      m_vertex_normals.row(v) /= len;
+    else  // the incident faces cancel out (a pinched apex): fall back to one of them
+      m_vertex_normals.row(v) = m_face_normals.row(first_face[v]);
+  }
+
+  DisjointSets sets(nf);
+  for (int e = 0; e < ne; ++e)
+    if (m_edge_faces(e, 1) >= 0) sets.unite(m_edge_faces(e, 0), m_edge_faces(e, 1));
+  m_num_components = 0;
+  for (int f = 0; f < nf; ++f)
+    if (sets.find(f) == f) ++m_num_components;
+}
+
+double SurfaceMesh::mean_edge_length() const {
+  if (num_edges() == 0) return 0;
+  double sum = 0;
+  for (int e = 0; e < num_edges(); ++e)
+    sum += (m_vertices.row(m_edges(e, 0)) - m_vertices.row(m_edges(e, 1))).norm();
+  return sum / num_edges();
+}
+
+Vec3 SurfaceMesh::bbox_min() const {
+  if (num_vertices() == 0) return Vec3::Zero();
+  return m_vertices.colwise().minCoeff().transpose();
+}
+
+Vec3 SurfaceMesh::bbox_max() const {
+  if (num_vertices() == 0) return Vec3::Zero();
+  return m_vertices.colwise().maxCoeff().transpose();
+}
+
+Vec3 SurfaceMesh::point(const SurfacePoint& p) const {
+  const auto f = m_faces.row(p.face);
+  return p.bary[0] * m_vertices.row(f[0]).transpose() + p.bary[1] * m_vertices.row(f[1]).transpose() +
+         p.bary[2] * m_vertices.row(f[2]).transpose();
+}
+
+Vec3 SurfaceMesh::phong_normal(const SurfacePoint& p) const {
+  const auto f = m_faces.row(p.face);
+  const Vec3 n = p.bary[0] * m_vertex_normals.row(f[0]).transpose() +
+                 p.bary[1] * m_vertex_normals.row(f[1]).transpose() +
+                 p.bary[2] * m_vertex_normals.row(f[2]).transpose();
+  const double len = n.norm();
+  // Opposite vertex normals can cancel inside a face folded by ~180°; the face normal is then
+  // the only meaningful direction.
+  if (len < 1e-12) return m_face_normals.row(p.face).transpose();
+  return n / len;
+}
+
+double min_angle(const SurfaceMesh& mesh) {
+  double best = std::numeric_limits<double>::infinity();
+  const auto& V = mesh.vertices();
+  const auto& F = mesh.faces();
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = V.row(F(f, k)), b = V.row(F(f, (k + 1) % 3)), c = V.row(F(f, (k + 2) % 3));
+      const Vec3 u = b - a, w = c - a;
+      best = std::min(best, std::atan2(u.cross(w).norm(), u.dot(w)));
+    }
+  return best;
+}
+
+double max_aspect_ratio(const SurfaceMesh& mesh) {
+  // longest edge / shortest altitude, scaled by √3/2 so that an equilateral triangle gives 1;
+  // with the shortest altitude 2A/l_max this is l_max²·√3 / (4A).
+  double worst = 0;
+  const auto& V = mesh.vertices();
+  const auto& F = mesh.faces();
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Vec3 a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const double l2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    worst = std::max(worst, l2 * std::sqrt(3.0) / (4.0 * mesh.face_areas()[f]));
+  }
+  return worst;
+}
+
+}  // namespace cutwork

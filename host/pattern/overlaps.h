@@ -1,0 +1,32 @@
+#pragma once
+/// Admissibility of a layout (§4.2: "no pair of stencils may overlap"): bounding circles
+/// enlarged by the safety factor must keep apart, (1+s)(r_i + r_j) ≤ |c_i − c_j|, and off the
+/// open boundary, (1+s) r_i ≤ distance(c_i, boundary). The penalties of the objectives leave
+/// a residue of order 1/w_collision; resolve_overlaps removes it exactly.
+#include "host/pattern/pattern_surface.h"
+
+namespace cutwork {
+
+struct OverlapReport {
+  int pairs = 0;            ///< stencil pairs violating the pair condition
+  int boundary = 0;         ///< stencils violating the boundary condition
+  double worst = 0;         ///< largest violation relative to the required distance (0: none)
+  bool any() const { return pairs > 0 || boundary > 0; }
+};
+
+/// Checks a layout (uniform grid for the pairs).
+OverlapReport find_overlaps(const PatternSurface& surface, const StencilLayout& layout,
+                            double safety);
+/// Brute-force twin (all pairs, all boundary segments).
+OverlapReport find_overlaps_brute_force(const PatternSurface& surface, const StencilLayout& layout,
+                                        double safety);
+
+/// Makes the layout admissible by shrinking scales: each stencil takes the smallest factor
+/// f_ij = d_ij / ((1+s)(r_i + r_j)) over its violating pairs and d_i / ((1+s) r_i) for the
+/// boundary (both ends of a pair shrink by at most its factor, so every pair is admissible
+/// after one pass), times (1 − 1e-9) against round-off. A stencil that would shrink below
+/// min_scales[i] (#S) is removed instead. Returns the number of stencils removed.
+int resolve_overlaps(const PatternSurface& surface, StencilLayout& layout, double safety,
+                     const Eigen::VectorXd& min_scales);
+
+}  // namespace cutwork

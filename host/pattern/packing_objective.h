@@ -1,0 +1,91 @@
+#pragma once
+/// Pattern objective terms of §4.2 on plain arrays: collision (1), boundary collision (2),
+/// repulsion (3), growth (4) and their sum, the packing objective (5).
+///
+/// Arrays: positions #S×3 (m) — stencil centres; scales #S (m) — bounding-circle radii
+/// r_i = s_i (a stencil shape has bounding radius 1). Gradients are ACCUMULATED (+=) into
+/// #S×3 / #S arrays of the same shapes (pass nullptr to skip).
+///
+/// Units. The paper's terms are written in the units of its models; cutwork evaluates them in
+/// units of a reference length ℓ (`unit`, m: the nominal stencil scale), i.e. every length is
+/// divided by ℓ first. This makes P dimensionless and the same design in millimetres or metres
+/// gives the same pattern; otherwise the formulas are the paper's:
+///   (1) O_ij^coll  = ((1+s)(r_i+r_j) − d_ij)²            when positive part > 0
+///   (2) O_i^bcoll  = ((1+s) r_i − d_ik)²                  when (1+s) r_i > d_ik
+///   (3) O_ij^rep   = w_ij / d_ij² − w(ε)/ε²,  w = (ε√(2π))⁻¹ exp(−d²/(2ε²)),  d_ij < ε
+///   (4) O_i^growth = −s_i
+/// (3) is shifted by its value at the cut-off so that the term is continuous when a pair
+/// crosses d = ε (the paper's hard cut-off would make P jump there, which breaks a line
+/// search); the shift does not change any gradient inside the cut-off. Pairs are unordered
+/// (each counted once). d_ik in (2) is the signed distance to the nearest open-boundary point
+/// (negative outside), see boundary_distance.h.
+#include <vector>
+
+#include "host/core/types.h"
+#include "host/pattern/boundary_distance.h"
+#include "host/pattern/point_grid.h"
+
+namespace cutwork {
+
+/// Weights of the packing terms. The paper weighs them equally; cutwork defaults the collision
+/// terms to 100 so that the growth term (a constant push of 1 per stencil) settles at an
+/// overlap of ~1e-3 ℓ instead of ~1e-1 ℓ (balance: 2·w_coll·(1+s)·overlap·#contacts = 1);
+/// the small residue is removed exactly by resolve_overlaps() after optimisation.
+struct PackingWeights {
+  double collision = 100.0;
+  double repulsion = 1.0;
+  double growth = 1.0;
+};
+
+/// Collision (1) over candidate pairs (a superset of the colliding pairs is fine: inactive
+/// pairs contribute 0). Value in ℓ² units.
+double collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
+                           double safety, double unit, const std::vector<PointPair>& candidates,
+                           RowMatX3d* d_positions, Eigen::VectorXd* d_scales);
+
+/// Boundary collision (2). The nearest boundary point of stencil i is searched within
+/// (1+s) r_i + slack_i (slack: the distance by which an unprojected position may sit off the
+/// surface; nullptr = 0), which finds it whenever the term is active for a point on the
+/// surface or beyond its boundary.
+double boundary_collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
+                                    double safety, double unit, const BoundaryPolylines& boundary,
+                                    const Eigen::VectorXd* slack, RowMatX3d* d_positions,
+                                    Eigen::VectorXd* d_scales);
+
+/// Repulsion (3) over candidate pairs (pairs with d ≥ ε contribute 0). `epsilon` in m.
+double repulsion_objective(const RowMatX3d& positions, double epsilon, double unit,
+                           const std::vector<PointPair>& candidates, RowMatX3d* d_positions);
+
+/// Growth (4): −Σ s_i / ℓ.
+double growth_objective(const Eigen::VectorXd& scales, double unit, Eigen::VectorXd* d_scales);
+
+/// Candidate pairs for (1) and (3): all pairs closer than max(ε, (1+s)·2·max r), from a uniform
+/// grid. The twin below scans all pairs.
+std::vector<PointPair> packing_candidates(const RowMatX3d& positions, const Eigen::VectorXd& scales,
+                                          double safety, double epsilon);
+std::vector<PointPair> packing_candidates_brute_force(const RowMatX3d& positions,
+                                                      const Eigen::VectorXd& scales, double safety,
+                                                      double epsilon);
+
+/// Parameters of the packing objective (5).
+struct PackingSettings {
+  double safety = 0.2;     ///< s
+  double epsilon = 0.05;   ///< ε (m)
+  double unit = 0.01;      ///< ℓ (m)
+  PackingWeights weights;
+};
+
+/// Breakdown of one evaluation, in the same units as the total.
+struct PackingTerms {
+  double collision = 0, boundary = 0, repulsion = 0, growth = 0;
+  double total() const { return collision + boundary + repulsion + growth; }
+};
+
+/// P^pack (5) with the weights: w_c (Σ O^coll + Σ O^bcoll) + w_r Σ O^rep + w_g Σ O^growth.
+/// `boundary` may be empty (closed surface). Returns the total; `terms` (nullable) the parts.
+double packing_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
+                         const PackingSettings& settings, const BoundaryPolylines& boundary,
+                         const Eigen::VectorXd* slack, RowMatX3d* d_positions,
+                         Eigen::VectorXd* d_scales, PackingTerms* terms = nullptr);
+
+}  // namespace cutwork

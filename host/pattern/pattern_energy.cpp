@@ -1,0 +1,106 @@
+#include "host/pattern/pattern_energy.h"
+
+#include "host/core/error.h"
+
+namespace cutwork {
+
+PatternEnergy::PatternEnergy(const PatternSurface& surface, const PatternEnergySettings& settings,
+                             const DetExemplar* exemplar)
+    : m_surface(&surface), m_settings(settings), m_exemplar(exemplar) {
+  if (settings.kind == PatternKind::Exemplar && !exemplar)
+    throw Error("PatternEnergy: the exemplar objective needs an exemplar");
+}
+
+void PatternEnergy::rematch(const StencilLayout& layout) {
+  if (m_settings.kind == PatternKind::Exemplar) m_hoods = det_match(*m_exemplar, *m_surface, layout);
+}
+
+double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales,
+                               const Eigen::VectorXi& types, RowMatX3d* d_q,
+                               Eigen::VectorXd* d_scales, PatternTerms* terms) const {
+  const int S = int(q.rows());
+  const PatternEnergySettings& st = m_settings;
+  const double inv2 = 1.0 / (st.unit * st.unit);
+  const bool grad = d_q || d_scales;
+
+  // Projection and its Jacobian ∂c/∂q.
+  RowMatX3d c(S, 3);
+  std::vector<Eigen::Matrix3d> J(grad ? size_t(S) : 0);
+  Eigen::VectorXd slack(S);
+  PatternTerms t;
+  for (int i = 0; i < S; ++i) {
+    const Vec3 qi = q.row(i).transpose();
+    FrameJacobian fj;
+    const Frame fr = m_surface->frame(qi, grad ? &fj : nullptr);
+    c.row(i) = fr.origin.transpose();
+    if (grad) J[size_t(i)] = fj.d_origin;
+    slack[i] = (qi - fr.origin).norm();
+    t.tether += st.tether * slack[i] * slack[i] * inv2;
+  }
+
+  RowMatX3d gc, gq;
+  Eigen::VectorXd gs, part;
+  if (grad) {
+    gc = RowMatX3d::Zero(S, 3);
+    gq = RowMatX3d::Zero(S, 3);
+    gs = Eigen::VectorXd::Zero(S);
+  }
+  auto weighted = [&](double w, RowMatX3d* into, auto&& term) {
+    RowMatX3d pq;
+    Eigen::VectorXd ps;
+    if (grad) {
+      pq = RowMatX3d::Zero(S, 3);
+      ps = Eigen::VectorXd::Zero(S);
+    }
+    const double v = term(grad ? &pq : nullptr, grad ? &ps : nullptr);
+    if (grad) {
+      *into += w * pq;
+      gs += w * ps;
+    }
+    return w * v;
+  };
+
+  const bool packing = st.kind == PatternKind::Packing;
+  const std::vector<PointPair> cand =
+      packing_candidates(c, scales, st.safety, packing ? st.epsilon : 0.0);
+  if (!packing) {
+    t.det = weighted(1.0, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
+      return det_objective(*m_exemplar, m_hoods, c, scales, types, pq, ps);
+    });
+  }
+  t.collision = weighted(st.weights.collision, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
+    return collision_objective(c, scales, st.safety, st.unit, cand, pq, ps);
+  });
+  t.boundary = weighted(st.weights.collision, &gq, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
+    return boundary_collision_objective(q, scales, st.safety, st.unit, m_surface->boundary(), &slack,
+                                        pq, ps);
+  });
+  if (packing) {
+    t.repulsion = weighted(st.weights.repulsion, &gc, [&](RowMatX3d* pq, Eigen::VectorXd*) {
+      return repulsion_objective(c, st.epsilon, st.unit, cand, pq);
+    });
+    t.growth = weighted(st.weights.growth, &gc, [&](RowMatX3d*, Eigen::VectorXd* ps) {
+      return growth_objective(scales, st.unit, ps);
+    });
+  }
+  if (grad) {
+    for (int i = 0; i < S; ++i) {
+      const Vec3 qi = q.row(i).transpose(), ci = c.row(i).transpose();
+      // ∂|q − Π(q)|²/∂q = 2 (q − Π(q)) (the squared distance to the surface).
+      const Vec3 g = J[size_t(i)].transpose() * gc.row(i).transpose() +
+                     gq.row(i).transpose() + 2 * st.tether * inv2 * (qi - ci);
+      gq.row(i) = g.transpose();
+    }
+    if (d_q) *d_q = gq;
+    if (d_scales) *d_scales = gs;
+  }
+  if (terms) *terms = t;
+  return t.total();
+}
+
+double PatternEnergy::evaluate(const StencilLayout& layout, PatternTerms* terms) const {
+  return evaluate(layout_positions(layout), layout_scales(layout), layout_types(layout), nullptr,
+                  nullptr, terms);
+}
+
+}  // namespace cutwork

@@ -1,0 +1,30 @@
+#pragma once
+/// stencils.json: a design's stencils in a self-contained form.
+///
+///   {"stencils": [{"type": NAME, "position": [x,y,z], "normal": [..], "tangent": [..],
+///                  "axis_x": [..], "scale": s, "angle": φ, "bounding_radius": r}, ...],
+///    "shapes": {NAME: {"kind": K, "type": id, "polygon": [[x,y], ...], "area": a}, ...}}
+///
+/// position: the centre on the surface (m); normal: the Phong normal there; tangent: the
+/// orientation field's direction t (φ = 0); angle φ (rad) counter-clockwise about the normal
+/// from t; axis_x = cos φ t + sin φ (n × t), the direction of the polygon's x axis; scale s
+/// (m): the bounding-circle radius, so a polygon point (u, v) lies at
+/// position + s (u axis_x + v (n × axis_x)) in the stencil's tangent plane; bounding_radius
+/// = s (already scaled; shapes have bounding radius 1). Polygons are counter-clockwise.
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "host/pattern/pattern_surface.h"
+#include "host/stencil/stencil_shape.h"
+
+namespace cutwork {
+
+nlohmann::json stencils_to_json(const StencilLayout& layout, const PatternSurface& surface,
+                                const StencilLibrary& shapes);
+
+/// Writes stencils_to_json(...) to `path` atomically (temporary file, then rename).
+void write_stencils_json(const std::filesystem::path& path, const StencilLayout& layout,
+                         const PatternSurface& surface, const StencilLibrary& shapes);
+
+}  // namespace cutwork

@@ -1,0 +1,606 @@
+#include "host/scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/core/error.h"
+#include "host/io/json_io.h"
+#include "host/mesh/mesh_io.h"
+#include "host/scene/json_reader.h"
+#include "host/shapes/shapes.h"
+#include "host/stencil/stencil_shape.h"
+
+namespace cutwork {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kInf = INFINITY;
+
+const std::vector<std::string>& entity_names() {
+  static const std::vector<std::string> names{"vertices", "boundary_vertices", "edges",
+                                              "boundary_edges", "faces"};
+  return names;
+}
+
+const std::vector<std::string>& exemplar_names() {
+  // The built-in exemplars of Fig. 2 (host/pattern implements them).
+  static const std::vector<std::string> names{"packing", "flowers", "stripes", "circles", "mix"};
+  return names;
+}
+
+Entity entity_from(const std::string& s) {
+  const auto& n = entity_names();
+  return Entity(std::find(n.begin(), n.end(), s) - n.begin());
+}
+
+Selector parse_selector(JsonObjectReader r, Entity default_entity) {
+  Selector sel;
+  sel.json_path = r.path();
+  sel.entity = entity_from(r.string("entity", entity_names()[int(default_entity)], entity_names()));
+  const char* axes[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    if (!r.has(axes[k])) {
+      r.child(axes[k]);
+      continue;
+    }
+    JsonObjectReader a = r.object(axes[k]);
+    sel.above[k] = a.number("above", -kInf, -kInf, kInf);
+    sel.below[k] = a.number("below", kInf, -kInf, kInf);
+    if (!a.has("above") && !a.has("below"))
+      a.fail("", "needs 'above' and/or 'below'");
+    if (sel.above[k] >= sel.below[k])
+      a.fail("", "'above' (" + format_number(sel.above[k]) + ") must be less than 'below' (" +
+                     format_number(sel.below[k]) + ")");
+    a.finish();
+  }
+  if (r.has("near")) {
+    JsonObjectReader n = r.object("near");
+    sel.near_point = n.required_vec3("point");
+    sel.near_radius = n.number("radius", kInf, 0, kInf, true, false);
+    n.finish();
+  } else {
+    r.child("near");
+  }
+  sel.nearest = r.integer("nearest", 0, 0, 1'000'000);
+  if (sel.nearest > 0 && !sel.near_point)
+    r.fail("nearest", "needs 'near': {\"point\": [x, y, z]} to measure distance from");
+  r.finish();
+  return sel;
+}
+
+nlohmann::ordered_json selector_to_json(const Selector& s) {
+  using json = nlohmann::ordered_json;
+  json j;
+  j["entity"] = entity_names()[int(s.entity)];
+  const char* axes[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    json a = json::object();
+    if (std::isfinite(s.above[k])) a["above"] = s.above[k];
+    if (std::isfinite(s.below[k])) a["below"] = s.below[k];
+    if (!a.empty()) j[axes[k]] = a;
+  }
+  if (s.near_point) {
+    j["near"] = {{"point", {(*s.near_point)[0], (*s.near_point)[1], (*s.near_point)[2]}}};
+    if (std::isfinite(s.near_radius)) j["near"]["radius"] = s.near_radius;
+  }
+  if (s.nearest > 0) j["nearest"] = s.nearest;
+  return j;
+}
+
+nlohmann::ordered_json vec3_json(const Vec3& v) { return nlohmann::ordered_json::array({v[0], v[1], v[2]}); }
+
+const std::vector<std::string> kLoadTypes{"point", "edge", "area", "pressure", "self_weight"};
+const std::vector<std::string> kSupportTypes{"pinned", "clamped"};
+const std::vector<std::string> kStructuralObjectives{"none", "energy_density", "adaptive", "compliance"};
+
+}  // namespace
+
+Scene parse_scene(const json& doc, const std::string& origin, const fs::path& base_dir) {
+  JsonObjectReader root(doc, origin, "");
+  Scene scene;
+  scene.name = root.string("name", "unnamed");
+  scene.description = root.string("description", "");
+
+  // ---- mesh
+  {
+    JsonObjectReader m = root.object("mesh");
+    if (!root.has("mesh")) root.fail("mesh", "is required: {\"generator\": NAME} or {\"file\": PATH}");
+    const bool has_gen = m.has("generator"), has_file = m.has("file");
+    if (has_gen == has_file) m.fail("", "needs exactly one of 'generator' or 'file'");
+    if (has_gen) {
+      std::vector<std::string> names;
+      for (const auto& s : builtin_shapes()) names.push_back(s.name);
+      scene.mesh.generator = m.string("generator", "", names);
+      const ShapeInfo* info = find_shape(scene.mesh.generator);
+      JsonObjectReader p = m.object("params");
+      for (const auto& [key, def] : info->defaults)
+        scene.mesh.params[key] = p.number(key, def, -kInf, kInf);
+      p.finish();  // unknown parameters named with the accepted ones; ranges checked by shapes
+      scene.mesh.edge_length = m.number("edge_length", info->base_edge_length, 0, kInf, true);
+      scene.mesh.sim_edge_length = m.number("sim_edge_length", info->sim_edge_length, 0, kInf);
+    } else {
+      const std::string f = m.string("file", "");
+      if (f.empty()) m.fail("file", "must name a mesh file");
+      fs::path p(f);
+      scene.mesh.file = p.is_absolute() || base_dir.empty() ? p : base_dir / p;
+      if (!is_mesh_file(scene.mesh.file))
+        m.fail("file", "'" + f + "' is not a mesh file (accepted: .obj .ply .off .stl)");
+      scene.mesh.sim_edge_length = 0;
+    }
+    m.finish();
+  }
+
+  // ---- material
+  {
+    JsonObjectReader m = root.object("material");
+    Material d;
+    scene.material.youngs_modulus = m.number("youngs_modulus", d.youngs_modulus, 0, 1e13, true);
+    scene.material.poisson_ratio = m.number("poisson_ratio", d.poisson_ratio, 0, 0.5, false, true);
+    scene.material.thickness = m.number("thickness", d.thickness, 0, 10, true);
+    scene.material.density = m.number("density", d.density, 0, 1e5);
+    m.finish();
+  }
+
+  // ---- supports
+  {
+    const json& arr = root.array("supports");
+    for (size_t i = 0; i < arr.size(); ++i) {
+      JsonObjectReader s(arr[i], origin, "/supports/" + std::to_string(i));
+      SupportSpec spec;
+      spec.kind = s.string("type", "pinned", kSupportTypes) == "clamped" ? SupportKind::Clamped
+                                                                          : SupportKind::Pinned;
+      if (!s.has("select")) s.fail("select", "is required: which vertices are supported");
+      spec.select = parse_selector(s.object("select"), Entity::Vertices);
+      s.finish();
+      scene.supports.push_back(spec);
+    }
+  }
+
+  // ---- loads
+  {
+    const json& arr = root.array("loads");
+    for (size_t i = 0; i < arr.size(); ++i) {
+      JsonObjectReader l(arr[i], origin, "/loads/" + std::to_string(i));
+      LoadSpec spec;
+      const std::string type = l.required_string("type", kLoadTypes);
+      if (type == "self_weight") {
+        spec.kind = LoadKind::SelfWeight;
+        spec.gravity = l.vec3("gravity", Vec3(0, 0, -9.81));
+      } else {
+        const Entity def = type == "point" ? Entity::Vertices
+                           : type == "edge" ? Entity::BoundaryEdges
+                                            : Entity::Faces;
+        spec.kind = type == "point" ? LoadKind::Point
+                    : type == "edge" ? LoadKind::Edge
+                    : type == "area" ? LoadKind::Area
+                                     : LoadKind::Pressure;
+        if (spec.kind == LoadKind::Pressure)
+          spec.pressure = l.required_number("pressure", -kInf, kInf);
+        else
+          spec.force = l.required_vec3("force");
+        if (!l.has("select")) l.fail("select", "is required: where the load acts");
+        spec.select = parse_selector(l.object("select"), def);
+        const bool edge_entity = spec.select.entity == Entity::Edges || spec.select.entity == Entity::BoundaryEdges;
+        const bool face_entity = spec.select.entity == Entity::Faces;
+        if (spec.kind == LoadKind::Edge && !edge_entity)
+          l.fail("select", "an edge load selects 'edges' or 'boundary_edges'");
+        if ((spec.kind == LoadKind::Area || spec.kind == LoadKind::Pressure) && !face_entity)
+          l.fail("select", "an " + type + " load selects 'faces'");
+        if (spec.kind == LoadKind::Point && (edge_entity || face_entity))
+          l.fail("select", "a point load selects 'vertices' or 'boundary_vertices'");
+      }
+      l.finish();
+      scene.loads.push_back(spec);
+    }
+  }
+
+  // ---- stencil shapes
+  {
+    const json& arr = root.array("stencils");
+    for (size_t i = 0; i < arr.size(); ++i) {
+      const std::string path = "/stencils/" + std::to_string(i);
+      JsonObjectReader s(arr[i], origin, path);
+      StencilShapeSpec spec;
+      spec.kind = s.string("kind", "circle");
+      spec.name = s.string("name", spec.kind);
+      for (const auto& other : scene.shapes)
+        if (other.name == spec.name) s.fail("name", "duplicate stencil name '" + spec.name + "'");
+      if (spec.kind == "polygon") {
+        const json& pts = s.array("polygon");
+        for (size_t k = 0; k < pts.size(); ++k) {
+          const std::string pp = path + "/polygon/" + std::to_string(k);
+          if (!pts[k].is_array() || pts[k].size() != 2 || !pts[k][0].is_number() || !pts[k][1].is_number())
+            throw InputError(origin + ": " + pp + ": expected [x, y]");
+          spec.polygon.emplace_back(pts[k][0].get<double>(), pts[k][1].get<double>());
+        }
+      } else if (s.has("params")) {
+        JsonObjectReader p = s.object("params");
+        for (auto it = arr[i]["params"].begin(); it != arr[i]["params"].end(); ++it)
+          spec.params[it.key()] = p.number(it.key(), 0, -kInf, kInf);
+        p.finish();
+      } else {
+        s.child("params");
+      }
+      s.finish();
+      // Shape kinds and their parameters are validated by the stencil library itself.
+      try {
+        if (spec.kind == "polygon")
+          make_polygon_stencil(spec.name, spec.polygon);
+        else
+          make_builtin_stencil(spec.kind, spec.params, spec.name);
+      } catch (const InputError& e) {
+        throw InputError(origin + ": " + path + ": " + e.what());
+      }
+      scene.shapes.push_back(spec);
+    }
+  }
+
+  // ---- pattern
+  {
+    JsonObjectReader p = root.object("pattern");
+    PatternSettings d;
+    PatternSettings& o = scene.pattern;
+    o.objective = p.string("objective", "packing", {"packing", "exemplar"}) == "exemplar"
+                      ? PatternObjective::Exemplar
+                      : PatternObjective::Packing;
+    if (const json* ex = p.child("exemplar")) {
+      if (ex->is_string()) {
+        o.exemplar = p.string("exemplar", "", exemplar_names());
+      } else if (ex->is_object()) {
+        o.exemplar_inline = *ex;
+      } else {
+        p.fail("exemplar", "expected a built-in exemplar name or an exemplar object");
+      }
+    }
+    if (o.objective == PatternObjective::Exemplar && o.exemplar.empty() && o.exemplar_inline.is_null())
+      p.fail("exemplar", "is required when objective is 'exemplar'");
+    o.w_P = p.number("w_P", d.w_P, 0, kInf);
+    o.s = p.number("s", d.s, 0, 10);
+    o.r_N = p.number("r_N", d.r_N, 0, 10, true);
+    o.epsilon = p.number("epsilon", d.epsilon, 0, 10, true);
+    o.xi = p.number("xi", d.xi, 0, kInf);
+    o.scale = p.number("scale", d.scale, 0, kInf);
+    o.scale_min = p.number("scale_min", 0.5, 0, 1);
+    o.scale_max = p.number("scale_max", 1.5, 1, 100);
+    o.count = p.integer("count", d.count, 0, 10'000'000);
+    o.symmetry = p.integer("symmetry", d.symmetry, 0, 12);
+    o.sizing = p.number("sizing", d.sizing, 0, kInf, true);
+    if (p.has("sizing_file")) {
+      fs::path f(p.string("sizing_file", ""));
+      o.sizing_file = f.is_absolute() || base_dir.empty() ? f : base_dir / f;
+    } else {
+      p.child("sizing_file");
+    }
+    const json& brushes = p.array("brushes");
+    for (size_t i = 0; i < brushes.size(); ++i) {
+      JsonObjectReader b(brushes[i], origin, p.path_of("brushes") + "/" + std::to_string(i));
+      SizingBrush br;
+      br.center = b.required_vec3("center");
+      br.radius = b.required_number("radius", 0, kInf, true);
+      br.value = b.required_number("value", 0, kInf, true);
+      b.finish();
+      o.brushes.push_back(br);
+    }
+    const json& strokes = p.array("strokes");
+    for (size_t i = 0; i < strokes.size(); ++i) {
+      const std::string sp = p.path_of("strokes") + "/" + std::to_string(i);
+      if (!strokes[i].is_array() || strokes[i].size() < 2)
+        throw InputError(origin + ": " + sp + ": a stroke is an array of at least 2 points [x, y, z]");
+      SketchStroke st;
+      for (size_t k = 0; k < strokes[i].size(); ++k)
+        st.points.push_back(json_to_vec3(strokes[i][k], origin, sp + "/" + std::to_string(k)));
+      o.strokes.push_back(st);
+    }
+    o.stroke_weight = p.number("stroke_weight", d.stroke_weight, 0, kInf);
+    o.max_iterations = p.integer("max_iterations", d.max_iterations, 0, 1'000'000);
+    o.seed = unsigned(p.integer("seed", int(d.seed), 0, 2147483647));
+    p.finish();
+  }
+
+  // ---- structure
+  {
+    JsonObjectReader s = root.object("structure");
+    StructureSettings d;
+    StructureSettings& o = scene.structure;
+    const std::string obj = s.string("objective", "energy_density", kStructuralObjectives);
+    o.objective = StructuralObjective(std::find(kStructuralObjectives.begin(), kStructuralObjectives.end(), obj) -
+                                      kStructuralObjectives.begin());
+    o.w_S = s.number("w_S", d.w_S, 0, kInf);
+    o.beta = s.number("beta", d.beta, 0, 1, true, false);
+    o.adaptive_mode = s.string("adaptive_mode", d.adaptive_mode, {"top_percent", "median"});
+    o.adaptive_y = s.number("adaptive_y", d.adaptive_y, 0, 100, true);
+    o.max_iterations = s.integer("max_iterations", d.max_iterations, 0, 1'000'000);
+    o.max_rounds = s.integer("max_rounds", d.max_rounds, 1, 1000);
+    o.fill_holes = s.boolean("fill_holes", d.fill_holes);
+    s.finish();
+  }
+
+  root.finish();
+  return scene;
+}
+
+nlohmann::ordered_json scene_to_json(const Scene& s) {
+  using json = nlohmann::ordered_json;
+  json j;
+  j["name"] = s.name;
+  j["description"] = s.description;
+  if (!s.mesh.generator.empty()) {
+    j["mesh"] = {{"generator", s.mesh.generator},
+                 {"params", s.mesh.params},
+                 {"edge_length", s.mesh.edge_length},
+                 {"sim_edge_length", s.mesh.sim_edge_length}};
+  } else {
+    j["mesh"] = {{"file", s.mesh.file.string()}};
+  }
+  j["material"] = {{"youngs_modulus", s.material.youngs_modulus},
+                   {"poisson_ratio", s.material.poisson_ratio},
+                   {"thickness", s.material.thickness},
+                   {"density", s.material.density}};
+  j["supports"] = json::array();
+  for (const auto& sp : s.supports)
+    j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},
+                             {"select", selector_to_json(sp.select)}});
+  j["loads"] = json::array();
+  for (const auto& l : s.loads) {
+    json lj;
+    lj["type"] = kLoadTypes[int(l.kind)];
+    switch (l.kind) {
+      case LoadKind::SelfWeight: lj["gravity"] = vec3_json(l.gravity); break;
+      case LoadKind::Pressure: lj["pressure"] = l.pressure; break;
+      default: lj["force"] = vec3_json(l.force); break;
+    }
+    if (l.kind != LoadKind::SelfWeight) lj["select"] = selector_to_json(l.select);
+    j["loads"].push_back(lj);
+  }
+  j["stencils"] = json::array();
+  for (const auto& sh : s.shapes) {
+    json sj = {{"name", sh.name}, {"kind", sh.kind}};
+    if (sh.kind == "polygon") {
+      sj["polygon"] = json::array();
+      for (const auto& p : sh.polygon) sj["polygon"].push_back({p[0], p[1]});
+    } else {
+      sj["params"] = sh.params;
+    }
+    j["stencils"].push_back(sj);
+  }
+  const PatternSettings& p = s.pattern;
+  json pj = {{"objective", p.objective == PatternObjective::Exemplar ? "exemplar" : "packing"},
+             {"w_P", p.w_P},           {"s", p.s},
+             {"r_N", p.r_N},           {"epsilon", p.epsilon},
+             {"xi", p.xi},             {"scale", p.scale},
+             {"scale_min", p.scale_min}, {"scale_max", p.scale_max},
+             {"count", p.count},       {"symmetry", p.symmetry},
+             {"sizing", p.sizing},     {"stroke_weight", p.stroke_weight},
+             {"max_iterations", p.max_iterations}, {"seed", p.seed}};
+  if (!p.exemplar.empty()) pj["exemplar"] = p.exemplar;
+  if (!p.exemplar_inline.is_null()) pj["exemplar"] = p.exemplar_inline;
+  if (!p.sizing_file.empty()) pj["sizing_file"] = p.sizing_file.string();
+  pj["brushes"] = json::array();
+  for (const auto& b : p.brushes)
+    pj["brushes"].push_back({{"center", vec3_json(b.center)}, {"radius", b.radius}, {"value", b.value}});
+  pj["strokes"] = json::array();
+  for (const auto& st : p.strokes) {
+    json pts = json::array();
+    for (const auto& q : st.points) pts.push_back(vec3_json(q));
+    pj["strokes"].push_back(pts);
+  }
+  j["pattern"] = pj;
+  const StructureSettings& st = s.structure;
+  j["structure"] = {{"objective", kStructuralObjectives[int(st.objective)]},
+                    {"w_S", st.w_S},
+                    {"beta", st.beta},
+                    {"adaptive_mode", st.adaptive_mode},
+                    {"adaptive_y", st.adaptive_y},
+                    {"max_iterations", st.max_iterations},
+                    {"max_rounds", st.max_rounds},
+                    {"fill_holes", st.fill_holes}};
+  return j;
+}
+
+Scene load_scene(const std::string& what, std::string* notice) {
+  fs::path path(what);
+  std::error_code ec;
+  const bool exists = fs::exists(path, ec);
+  if (!exists) {
+    for (const auto& b : builtin_scenes())
+      if (b.name == what) {
+        Scene s = parse_scene(builtin_scene_json(what), "builtin:" + what);
+        return s;
+      }
+    std::string names;
+    for (const auto& b : builtin_scenes()) names += (names.empty() ? "" : ", ") + b.name;
+    throw InputError(what + ": no such file, and not a built-in scene (built-in: " + names + ")");
+  }
+  if (fs::is_directory(path, ec)) throw InputError(what + ": is a directory, expected a scene or mesh file");
+  if (is_mesh_file(path)) {
+    // A plain mesh: self-weight, lowest vertices pinned, the default pattern.
+    SurfaceMesh mesh = read_mesh(path);
+    const double zmin = mesh.bbox_min()[2];
+    const double extent = (mesh.bbox_max() - mesh.bbox_min()).norm();
+    json doc = {{"name", path.stem().string()},
+                {"description", "mesh file with default supports and loads"},
+                {"mesh", {{"file", fs::absolute(path).string()}}},
+                {"supports", json::array({{{"type", "pinned"},
+                                           {"select", {{"entity", "vertices"},
+                                                       {"z", {{"below", zmin + 0.01 * extent}}}}}}})},
+                {"loads", json::array({{{"type", "self_weight"}}})},
+                {"stencils", json::array({{{"name", "circle"}, {"kind", "circle"}}})}};
+    Scene s = parse_scene(doc, path.string());
+    s.from_plain_mesh = true;
+    s.source = path;
+    if (notice)
+      *notice = path.string() + ": a plain mesh; using defaults: self-weight, vertices with z below " +
+                format_number(zmin + 0.01 * extent) + " pinned, circle stencils";
+    return s;
+  }
+  if (path.extension() != ".json")
+    throw InputError(what + ": unknown file type (expected a .json scene or a .obj/.ply/.off/.stl mesh)");
+  Scene s = parse_scene(read_json_file(path), path.string(), path.parent_path());
+  s.source = path;
+  return s;
+}
+
+std::string scene_origin(const Scene& scene) {
+  return scene.source.empty() ? "builtin:" + scene.name : scene.source.string();
+}
+
+SceneMeshes build_scene_meshes(const Scene& scene) {
+  SceneMeshes out;
+  if (!scene.mesh.generator.empty()) {
+    try {
+      out.base = generate_shape(scene.mesh.generator, scene.mesh.params, scene.mesh.edge_length);
+      if (scene.mesh.sim_edge_length > 0 && scene.mesh.sim_edge_length != scene.mesh.edge_length)
+        out.sim = generate_shape(scene.mesh.generator, scene.mesh.params, scene.mesh.sim_edge_length);
+    } catch (const InputError& e) {
+      throw InputError(scene_origin(scene) + ": /mesh: " + e.what());
+    }
+    if (out.sim.num_faces() == 0) {
+      out.sim = out.base;
+      out.sim_is_base = true;
+    }
+  } else {
+    out.base = read_mesh(scene.mesh.file);
+    out.sim = out.base;
+    out.sim_is_base = true;
+  }
+  out.map = map_meshes(out.base, out.sim);
+  return out;
+}
+
+namespace {
+bool inside(const Selector& s, const Vec3& x) {
+  for (int k = 0; k < 3; ++k)
+    if (!(x[k] > s.above[k] && x[k] < s.below[k])) return false;
+  if (s.near_point && std::isfinite(s.near_radius) && (x - *s.near_point).norm() > s.near_radius)
+    return false;
+  return true;
+}
+}  // namespace
+
+std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh) {
+  const RowMatX3d& V = mesh.vertices();
+  std::vector<int> out;
+  std::vector<double> dist;  // to near_point, for `nearest`
+  auto centre_of = [&](std::initializer_list<int> vs) {
+    Vec3 c = Vec3::Zero();
+    for (int v : vs) c += V.row(v).transpose();
+    return Vec3(c / double(vs.size()));
+  };
+  auto keep = [&](int index, bool ok, const Vec3& where) {
+    if (!ok) return;
+    out.push_back(index);
+    if (sel.near_point) dist.push_back((where - *sel.near_point).norm());
+  };
+  switch (sel.entity) {
+    case Entity::Vertices:
+    case Entity::BoundaryVertices:
+      for (int v = 0; v < mesh.num_vertices(); ++v) {
+        if (sel.entity == Entity::BoundaryVertices && !mesh.is_boundary_vertex()[v]) continue;
+        const Vec3 x = V.row(v).transpose();
+        keep(v, inside(sel, x), x);
+      }
+      break;
+    case Entity::Edges:
+    case Entity::BoundaryEdges:
+      for (int e = 0; e < mesh.num_edges(); ++e) {
+        if (sel.entity == Entity::BoundaryEdges && mesh.edge_faces()(e, 1) >= 0) continue;
+        const int a = mesh.edges()(e, 0), b = mesh.edges()(e, 1);
+        keep(e, inside(sel, V.row(a).transpose()) && inside(sel, V.row(b).transpose()), centre_of({a, b}));
+      }
+      break;
+    case Entity::Faces:
+      for (int f = 0; f < mesh.num_faces(); ++f) {
+        const int a = mesh.faces()(f, 0), b = mesh.faces()(f, 1), c = mesh.faces()(f, 2);
+        keep(f,
+             inside(sel, V.row(a).transpose()) && inside(sel, V.row(b).transpose()) &&
+                 inside(sel, V.row(c).transpose()),
+             centre_of({a, b, c}));
+      }
+      break;
+  }
+  if (sel.nearest > 0 && int(out.size()) > sel.nearest) {
+    std::vector<int> order(out.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
+    std::vector<int> kept;
+    for (int i = 0; i < sel.nearest; ++i) kept.push_back(out[order[i]]);
+    std::sort(kept.begin(), kept.end());
+    out = kept;
+  }
+  return out;
+}
+
+LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh) {
+  const std::string origin = scene_origin(scene);
+  LoadCase lc;
+  const int nv = mesh.num_vertices();
+  lc.fixed.assign(nv, false);
+  lc.clamped.assign(nv, false);
+  lc.forces = RowMatX3d::Zero(nv, 3);
+  auto selected = [&](const Selector& sel) {
+    std::vector<int> ids = select_entities(sel, mesh);
+    if (ids.empty())
+      throw InputError(origin + ": " + sel.json_path + ": selects no " + entity_names()[int(sel.entity)] +
+                       " on the simulation mesh (bounding box [" + format_number(mesh.bbox_min()[0]) + ", " +
+                       format_number(mesh.bbox_min()[1]) + ", " + format_number(mesh.bbox_min()[2]) + "] to [" +
+                       format_number(mesh.bbox_max()[0]) + ", " + format_number(mesh.bbox_max()[1]) + ", " +
+                       format_number(mesh.bbox_max()[2]) + "])");
+    return ids;
+  };
+  auto vertices_of = [&](const Selector& sel, const std::vector<int>& ids) {
+    std::vector<int> vs;
+    for (int id : ids) {
+      if (sel.entity == Entity::Vertices || sel.entity == Entity::BoundaryVertices) vs.push_back(id);
+      else if (sel.entity == Entity::Faces) for (int k = 0; k < 3; ++k) vs.push_back(mesh.faces()(id, k));
+      else for (int k = 0; k < 2; ++k) vs.push_back(mesh.edges()(id, k));
+    }
+    std::sort(vs.begin(), vs.end());
+    vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+    return vs;
+  };
+  for (const auto& sp : scene.supports) {
+    for (int v : vertices_of(sp.select, selected(sp.select))) {
+      lc.fixed[v] = true;
+      if (sp.kind == SupportKind::Clamped) lc.clamped[v] = true;
+    }
+  }
+  const RowMatX3d& V = mesh.vertices();
+  for (const auto& l : scene.loads) {
+    if (l.kind == LoadKind::SelfWeight) {
+      lc.gravity += l.gravity;
+      continue;
+    }
+    const std::vector<int> ids = selected(l.select);
+    switch (l.kind) {
+      case LoadKind::Point: {
+        const std::vector<int> vs = vertices_of(l.select, ids);
+        for (int v : vs) lc.forces.row(v) += l.force.transpose() / double(vs.size());
+        break;
+      }
+      case LoadKind::Edge:
+        for (int e : ids) {
+          const int a = mesh.edges()(e, 0), b = mesh.edges()(e, 1);
+          const double len = (V.row(a) - V.row(b)).norm();
+          lc.forces.row(a) += 0.5 * len * l.force.transpose();
+          lc.forces.row(b) += 0.5 * len * l.force.transpose();
+        }
+        break;
+      case LoadKind::Area:
+      case LoadKind::Pressure:
+        for (int f : ids) {
+          const double A = mesh.face_areas()[f];
+          const Vec3 per_vertex = l.kind == LoadKind::Area
+                                      ? Vec3(l.force * A / 3.0)
+                                      : Vec3(l.pressure * A / 3.0 * mesh.face_normals().row(f).transpose());
+          for (int k = 0; k < 3; ++k) lc.forces.row(mesh.faces()(f, k)) += per_vertex.transpose();
+        }
+        break;
+      case LoadKind::SelfWeight: break;
+    }
+  }
+  return lc;
+}
+
+}  // namespace cutwork

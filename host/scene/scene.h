@@ -1,0 +1,176 @@
+#pragma once
+/// A design scene: one JSON document (see docs/SCENES.md) parsed into plain structs. Parsing and
+/// validation live in scene.cpp; everything downstream (shapes, mechanics, patterns) reads these
+/// structs, never JSON.
+#include <array>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "host/mesh/mesh_mapping.h"
+#include "host/scene/load_case.h"
+
+namespace cutwork {
+
+/// Where the base mesh comes from: a built-in generator or a file.
+struct MeshSpec {
+  std::string generator;                 ///< built-in shape name, or empty when `file` is set
+  std::map<std::string, double> params;  ///< generator parameters (validated by host/shapes)
+  std::filesystem::path file;            ///< mesh file (resolved relative to the scene file)
+  double edge_length = 0;                ///< base-mesh target edge length (m), generators only
+  double sim_edge_length = 0;            ///< simulation-mesh edge length (m); 0: same as base
+};
+
+/// Which mesh entities a selector picks. An edge or face is selected when all its vertices
+/// satisfy every condition.
+enum class Entity { Vertices, BoundaryVertices, Edges, BoundaryEdges, Faces };
+
+/// A geometric predicate: the conjunction of per-axis bounds and an optional ball.
+struct Selector {
+  Entity entity = Entity::Vertices;
+  std::array<double, 3> above{-INFINITY, -INFINITY, -INFINITY};  ///< coordinate > above[k]
+  std::array<double, 3> below{INFINITY, INFINITY, INFINITY};     ///< coordinate < below[k]
+  std::optional<Vec3> near_point;   ///< with near_radius: |x − near_point| ≤ near_radius
+  double near_radius = 0;
+  /// Keep only the `nearest` entities closest to `near_point` (0: keep all that match).
+  int nearest = 0;
+  std::string json_path;            ///< where it was written, for error messages
+};
+
+struct SupportSpec {
+  SupportKind kind = SupportKind::Pinned;
+  Selector select;
+};
+
+enum class LoadKind {
+  Point,        ///< `force` (N) in total, split equally over the selected vertices
+  Edge,         ///< `force` per length (N/m) on the selected edges, lumped to their ends
+  Area,         ///< `force` per area (N/m²) on the selected faces, lumped to their vertices
+  Pressure,     ///< `pressure` (Pa) along the faces' rest normals, lumped to their vertices
+  SelfWeight,   ///< `gravity` (m/s²) times ρ h α A per face
+};
+
+struct LoadSpec {
+  LoadKind kind = LoadKind::SelfWeight;
+  Selector select;
+  Vec3 force = Vec3::Zero();
+  double pressure = 0;
+  Vec3 gravity{0, 0, -9.81};
+};
+
+/// One stencil shape: a built-in kind with parameters, or a polygon.
+struct StencilShapeSpec {
+  std::string name;                       ///< unique within the scene
+  std::string kind;                       ///< circle, ellipse, star, flower, leaf, apple, polygon…
+  std::map<std::string, double> params;   ///< kind parameters (validated by host/stencil)
+  std::vector<Vec2> polygon;              ///< vertices, for kind "polygon"
+};
+
+enum class PatternObjective { Packing, Exemplar };
+
+struct SizingBrush {
+  Vec3 center = Vec3::Zero();
+  double radius = 0;
+  double value = 1;
+};
+
+struct SketchStroke {
+  std::vector<Vec3> points;  ///< a polyline on (or near) the surface
+};
+
+struct PatternSettings {
+  PatternObjective objective = PatternObjective::Packing;
+  std::string exemplar;                 ///< built-in exemplar name (objective = exemplar)
+  nlohmann::json exemplar_inline;       ///< or an inline exemplar document (null if none)
+  double w_P = 1.0;                     ///< pattern weight
+  double s = 0.2;                       ///< collision safety factor
+  double r_N = 0.3;                     ///< DET neighbourhood radius, relative to the exemplar size
+  double epsilon = 0.25;                ///< packing neighbourhood, fraction of the object's length
+  double xi = 1.0;                      ///< DET type-mismatch penalty
+  double scale = 0.0;                   ///< stencil scale (bounding radius, m); 0: automatic
+  double scale_min = 0.0;               ///< lower bound (fraction of `scale`)
+  double scale_max = 0.0;               ///< upper bound (fraction of `scale`)
+  int count = 0;                        ///< target stencil count for initialisation; 0: automatic
+  int symmetry = 0;                     ///< orientation field N-fold symmetry; 0: from the shapes
+  double sizing = 1.0;                  ///< constant sizing field value
+  std::filesystem::path sizing_file;    ///< per-vertex sizing (one value per line), optional
+  std::vector<SizingBrush> brushes;
+  std::vector<SketchStroke> strokes;
+  double stroke_weight = 10.0;          ///< soft alignment weight of sketch strokes
+  int max_iterations = 200;
+  unsigned seed = 1;
+};
+
+enum class StructuralObjective { None, EnergyDensity, Adaptive, Compliance };
+
+struct StructureSettings {
+  StructuralObjective objective = StructuralObjective::EnergyDensity;
+  double w_S = 500.0;                   ///< structural weight
+  double beta = 0.2;                    ///< threshold as a fraction of W_max of the uncut shell
+  std::string adaptive_mode = "top_percent";  ///< "top_percent" or "median"
+  double adaptive_y = 5.0;              ///< y (%) for top_percent
+  int max_iterations = 200;
+  int max_rounds = 10;                  ///< adaptive β updates / type-vote rounds
+  bool fill_holes = false;              ///< §6.3 hole filling between rounds
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::filesystem::path source;         ///< scene file, or empty for a built-in
+  bool from_plain_mesh = false;         ///< a mesh file given in place of a scene (defaults used)
+  MeshSpec mesh;
+  Material material;
+  std::vector<SupportSpec> supports;
+  std::vector<LoadSpec> loads;
+  std::vector<StencilShapeSpec> shapes;
+  PatternSettings pattern;
+  StructureSettings structure;
+};
+
+/// Parses and validates a scene document. `origin` names it in messages (a file name or
+/// "builtin:NAME"); relative paths inside resolve against `base_dir`.
+/// Throws InputError("<origin>: <json path>: <problem> (<accepted range>)").
+Scene parse_scene(const nlohmann::json& doc, const std::string& origin,
+                  const std::filesystem::path& base_dir = {});
+
+/// The complete document of a scene, every default filled in, keys in the documented order:
+/// parsing it again gives the same scene.
+nlohmann::ordered_json scene_to_json(const Scene& scene);
+
+/// Loads `what`: a built-in scene name, a scene file (.json), or a mesh file (defaults: self
+/// weight, the lowest vertices supported; `notice` receives a line saying so).
+Scene load_scene(const std::string& what, std::string* notice = nullptr);
+
+/// How messages name a scene: its file, or "builtin:NAME".
+std::string scene_origin(const Scene& scene);
+
+struct BuiltinScene {
+  std::string name;
+  std::string description;
+};
+const std::vector<BuiltinScene>& builtin_scenes();
+/// The JSON document of a built-in scene, or throws InputError listing the known names.
+nlohmann::json builtin_scene_json(const std::string& name);
+
+/// The meshes of a scene: base (cut and exported), simulation, and the map between them.
+struct SceneMeshes {
+  SurfaceMesh base;
+  SurfaceMesh sim;
+  MeshMapping map;
+  bool sim_is_base = false;
+};
+SceneMeshes build_scene_meshes(const Scene& scene);
+
+/// Resolves supports and loads onto `mesh` (normally the simulation mesh).
+/// Throws InputError naming the selector's JSON path when it selects nothing.
+LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh);
+
+/// Indices of the entities `sel` selects on `mesh` (vertex, edge or face indices by entity).
+std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh);
+
+}  // namespace cutwork

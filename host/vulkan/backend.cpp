@@ -1,0 +1,110 @@
+// Backend selection. Built with and without CUTWORK_WITH_VULKAN (host/CMakeLists.txt keeps this
+// one file of host/vulkan when Vulkan is off), so the CLI and the library never need #ifdefs.
+#include "host/vulkan/backend.h"
+
+#include <tbb/info.h>
+#include <tbb/version.h>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <ostream>
+
+#include "host/core/error.h"
+
+#if CUTWORK_WITH_VULKAN
+#include "host/vulkan/context.h"
+#endif
+
+namespace cutwork {
+namespace {
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) {
+        std::string name = line.substr(colon + 1);
+        name.erase(0, name.find_first_not_of(" \t"));
+        return name;
+      }
+    }
+  }
+  return "CPU";
+}
+
+}  // namespace
+
+DeviceRequest parse_device_request(std::string_view text) {
+  std::string s(text);
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (s == "cpu") return DeviceRequest::Cpu;
+  if (s == "vulkan") return DeviceRequest::Vulkan;
+  if (s == "auto") return DeviceRequest::Auto;
+  throw InputError("unknown device '" + std::string(text) + "': expected cpu, vulkan or auto");
+}
+
+std::string_view to_string(DeviceRequest request) {
+  switch (request) {
+    case DeviceRequest::Cpu:
+      return "cpu";
+    case DeviceRequest::Vulkan:
+      return "vulkan";
+    case DeviceRequest::Auto:
+      return "auto";
+  }
+  return "auto";
+}
+
+bool vulkan_compiled_in() {
+#if CUTWORK_WITH_VULKAN
+  return true;
+#else
+  return false;
+#endif
+}
+
+ComputeBackend cpu_backend() {
+  ComputeBackend b;
+  b.kind = ComputeBackend::Kind::Cpu;
+  b.name = cpu_model() + " (" + std::to_string(tbb::info::default_concurrency()) + " threads)";
+  b.driver =
+      "oneTBB " + std::to_string(TBB_VERSION_MAJOR) + "." + std::to_string(TBB_VERSION_MINOR);
+  return b;
+}
+
+ComputeBackend select_compute_backend(DeviceRequest request, std::ostream* warnings) {
+  if (request == DeviceRequest::Cpu) return cpu_backend();
+  std::string why;
+#if CUTWORK_WITH_VULKAN
+  try {
+    vulkan::ContextOptions options = vulkan::ContextOptions::from_environment();
+    options.require_float64 = true;
+    auto context = std::make_shared<vulkan::Context>(options);
+    ComputeBackend b;
+    b.kind = ComputeBackend::Kind::Vulkan;
+    b.name = context->info().name;
+    b.driver = context->info().driver;
+    b.context = std::move(context);
+    return b;
+  } catch (const DeviceError& e) {
+    if (request == DeviceRequest::Vulkan) throw;
+    why = e.what();
+  }
+#else
+  why = "this cutwork was built without Vulkan (CUTWORK_WITH_VULKAN=OFF)";
+  if (request == DeviceRequest::Vulkan) throw DeviceError("--device vulkan: " + why);
+#endif
+  ComputeBackend b = cpu_backend();
+  b.fallback_reason = why;
+  if (warnings != nullptr) {
+    *warnings << "cutwork: warning: no usable Vulkan device, running the kernels on the CPU ("
+              << why << ")\n";
+  }
+  return b;
+}
+
+}  // namespace cutwork

@@ -1,0 +1,287 @@
+#include "solvers/equilibrium/equilibrium_solver.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+#include "host/core/timer.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+/// Armijo constant of the line search.
+constexpr double kArmijo = 1e-4;
+/// Halvings before the line search gives up.
+constexpr int kMaxHalvings = 40;
+/// Relative size of an energy change that is round-off rather than progress.
+constexpr double kEnergyRoundoff = 1e-13;
+/// A residual this small (relative to the load) counts as converged when round-off stops the line
+/// search from making progress on the energy.
+constexpr double kRoundoffResidual = 1e-5;
+/// A Newton step this small relative to the largest displacement changes nothing that matters.
+constexpr double kNegligibleStep = 1e-10;
+/// Steps below this fraction of the model size are at the round-off of the coordinates.
+constexpr double kCoordinateRoundoff = 1e-13;
+/// During the iteration a Newton iterate may overshoot; beyond this many times the displacement
+/// limit the load is clearly beyond capacity and iterating further is pointless.
+constexpr double kExplosionFactor = 10.0;
+
+}  // namespace
+
+EquilibriumSolver::EquilibriumSolver(const ShellModel& model, NewtonSettings settings)
+    : m_model(model), m_settings(std::move(settings)) {
+  m_x = model.rest_positions();
+  m_trial = m_x;
+  Stopwatch sw;
+  const BlockAssembly& a = model.assembly();
+  m_cholmod.analyze(a.num_dofs(), a.column_starts(), a.row_indices());
+  m_analysis_seconds = sw.seconds();
+}
+
+void EquilibriumSolver::log(const std::string& line) const {
+  if (m_settings.log) m_settings.log(line);
+}
+
+void EquilibriumSolver::reset() {
+  m_x = m_model.rest_positions();
+  m_alpha.resize(0);
+  m_forces.resize(0, 3);
+  m_has_solution = false;
+  m_factor_at_solution = false;
+}
+
+RowMatX3d EquilibriumSolver::displacements() const { return m_x - m_model.rest_positions(); }
+
+double EquilibriumSolver::max_displacement() const {
+  return (m_x - m_model.rest_positions()).rowwise().norm().maxCoeff();
+}
+
+double EquilibriumSolver::factorize_with_shift(int iteration) {
+  Stopwatch sw;
+  const std::vector<double>& h = m_assembly.hessian;
+  ++m_stats.factorizations;
+  if (m_cholmod.factorize(h.data(), 0.0)) {
+    m_stats.factorization_seconds += sw.seconds();
+    return 0.0;
+  }
+  // Not positive definite: shift the diagonal, starting near the last successful shift (the next
+  // Newton step usually needs a similar one) or at a tiny fraction of the mean diagonal.
+  const std::vector<int>& cols = m_model.assembly().column_starts();
+  double mean_diagonal = 0;
+  const int n = m_model.num_dofs();
+  for (int j = 0; j < n; ++j) mean_diagonal += std::abs(h[cols[j + 1] - 1]);  // diagonal: last in column
+  mean_diagonal /= std::max(n, 1);
+  double shift = std::max(m_last_shift / 10.0, 1e-8 * mean_diagonal);
+  for (int attempt = 0; attempt < 30; ++attempt, shift *= 10.0) {
+    ++m_stats.factorizations;
+    if (m_cholmod.factorize(h.data(), shift)) {
+      m_stats.factorization_seconds += sw.seconds();
+      m_last_shift = shift;
+      ++m_stats.shifted_factorizations;
+      m_stats.max_shift = std::max(m_stats.max_shift, shift);
+      log(fmt::format("Newton iteration {}: Hessian not positive definite, factorised with diagonal "
+                      "shift {:.3g} N/m ({:.1e} of the mean diagonal) after {} attempt(s)",
+                      iteration, shift, shift / mean_diagonal, attempt + 1));
+      return shift;
+    }
+  }
+  m_stats.factorization_seconds += sw.seconds();
+  throw SolveError("the stiffness matrix could not be regularised (no diagonal shift made it positive "
+                   "definite): the model or its loads are degenerate");
+}
+
+void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest) {
+  const ShellModel& model = m_model;
+  const double load_norm = load.norm();
+  const double size = model.model_size();
+  const double limit = m_settings.max_displacement_ratio * size;
+  const Eigen::VectorXd rest = model.gather_free(model.rest_positions());
+  Eigen::VectorXd x = model.gather_free(m_trial);
+  Eigen::VectorXd direction(model.num_dofs());
+  m_last_shift = 0;
+  m_factor_at_solution = false;
+
+  // Every iteration factorises the Hessian at the current iterate before testing convergence, so
+  // that when it stops, the factor in m_cholmod is the one of the converged Hessian (for the adjoint).
+  auto converge = [&](double shift) {
+    m_stats.converged = true;
+    m_stats.stable = shift == 0;
+    m_factor_at_solution = m_stats.stable;
+    if (!m_stats.stable)
+      log("the equilibrium is unstable: its Hessian is not positive definite (a buckled or snap-through "
+          "state); sensitivities are not available there");
+  };
+
+  for (int iteration = 0;; ++iteration) {
+    Stopwatch sw;
+    assemble_shell(model, m_trial, alpha, true, m_assembly);
+    m_stats.assembly_seconds += sw.seconds();
+    if (!std::isfinite(m_assembly.energy))
+      throw SolveError("the shell reached a degenerate shape (a collapsed triangle) during Newton's method");
+    const Eigen::VectorXd residual = m_assembly.gradient - load;
+    const double rel = residual.norm() / load_norm;
+    m_stats.residual = rel;
+    m_stats.newton_iterations = iteration;
+
+    const double shift = factorize_with_shift(iteration);
+    if (shift > 0 && from_rest && iteration == 0)
+      throw SolveError(
+          "the model is not supported: its stiffness at rest is singular, so a mechanism or rigid "
+          "motion is not held by the supports (add or clamp supports)");
+    if (rel <= m_settings.residual_tolerance) return converge(shift);
+    if (iteration >= m_settings.max_iterations)
+      throw SolveError(fmt::format(
+          "Newton's method did not converge in {} iterations (force residual {:.2e} of the load); the "
+          "load may exceed what the structure can carry",
+          iteration, rel));
+
+    sw.restart();
+    m_cholmod.solve(residual.data(), direction.data());
+    direction = -direction;
+    m_stats.solve_seconds += sw.seconds();
+
+    // With a positive definite Hessian the Newton step is the estimate of the remaining
+    // displacement error. Once it is negligible against the displacement (or at the round-off of
+    // the coordinates themselves), the residual is the round-off of the internal forces — which,
+    // for a stiff membrane under a small load, can lie above residual_tolerance.
+    const double umax = (x - rest).lpNorm<Eigen::Infinity>();
+    if (shift == 0 &&
+        direction.lpNorm<Eigen::Infinity>() <= std::max(kNegligibleStep * umax, kCoordinateRoundoff * size))
+      return converge(shift);
+
+    double slope = residual.dot(direction);
+    if (!(slope < 0)) {
+      // Cannot happen with a positive definite factor unless round-off dominates; fall back to
+      // steepest descent rather than walk uphill.
+      direction = -residual;
+      slope = -residual.squaredNorm();
+      log(fmt::format("Newton iteration {}: not a descent direction, using the residual", iteration));
+    }
+
+    // Backtracking line search on Π(x) = Ŵ(x) − f·(x − X).
+    sw.restart();
+    const double energy0 = m_assembly.energy;
+    const double work0 = load.dot(x - rest);
+    const double potential0 = energy0 - work0;
+    RowMatX3d candidate = m_trial;
+    Eigen::VectorXd xt;
+    bool accepted = false;
+    double step = 1.0;
+    for (int halving = 0; halving <= kMaxHalvings; ++halving, step *= 0.5) {
+      xt = x + step * direction;
+      model.scatter_free(xt, candidate);
+      const double energy = shell_energy(model, candidate, alpha);
+      ++m_stats.energy_evaluations;
+      if (!std::isfinite(energy)) continue;
+      const double work = load.dot(xt - rest);
+      const double potential = energy - work;
+      if (potential <= potential0 + kArmijo * step * slope) {
+        accepted = true;
+        break;
+      }
+      // Near the solution the decrease of Π drowns in round-off of Ŵ and f·u; then accept a step
+      // that reduces the force residual instead.
+      const double noise = kEnergyRoundoff * (std::abs(energy0) + std::abs(work0) + std::abs(energy));
+      if (std::abs(potential - potential0) <= noise) {
+        ShellAssembly probe;
+        assemble_shell(model, candidate, alpha, false, probe);
+        if ((probe.gradient - load).norm() < residual.norm()) {
+          accepted = true;
+          break;
+        }
+      }
+    }
+    m_stats.line_search_seconds += sw.seconds();
+    if (!accepted) {
+      if (rel <= kRoundoffResidual) {
+        log(fmt::format("Newton stopped at round-off level (force residual {:.2e} of the load)", rel));
+        return converge(shift);
+      }
+      throw SolveError(fmt::format(
+          "Newton's line search could not reduce the potential energy (force residual {:.2e} of the "
+          "load); the load may exceed what the structure can carry",
+          rel));
+    }
+    x = xt;
+    m_trial = candidate;
+    const double unew = (m_trial - model.rest_positions()).rowwise().norm().maxCoeff();
+    if (unew > kExplosionFactor * limit)
+      throw SolveError(fmt::format(
+          "the load exceeds what the structure can carry: the displacement grew to {:.3g} m during "
+          "Newton's method, far beyond {:.0f}% of the model size ({:.3g} m)",
+          unew, 100 * m_settings.max_displacement_ratio, size));
+  }
+}
+
+const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
+  Stopwatch total;
+  const ShellModel& model = m_model;
+  model.check_fill_ratios(alpha);
+  m_stats = EquilibriumStats{};
+  const RowMatX3d forces = model.external_forces(alpha);
+  const Eigen::VectorXd load = model.gather_free(forces);
+  if (!load.allFinite()) throw SolveError("the loads are not finite");
+  m_stats.load_norm = load.norm();
+  if (!(m_stats.load_norm > 0))
+    throw SolveError("the load case applies no load to the free part of the shell: add a load");
+
+  const bool warm = m_has_solution;
+  m_stats.warm_started = warm;
+  m_trial = m_x;
+  try {
+    try {
+      newton(alpha, load, !warm);
+    } catch (const SolveError& first) {
+      if (!warm || !m_settings.cold_restart) throw;
+      log(std::string("warm-started Newton failed (") + first.what() + "); restarting from the rest state");
+      m_stats.cold_restarted = true;
+      m_trial = model.rest_positions();
+      newton(alpha, load, true);
+    }
+    const double umax = (m_trial - model.rest_positions()).rowwise().norm().maxCoeff();
+    const double limit = m_settings.max_displacement_ratio * model.model_size();
+    if (umax > limit)
+      throw SolveError(fmt::format(
+          "the load exceeds what the structure can carry: the displacement reached {:.3g} m, more than "
+          "{:.0f}% of the model size ({:.3g} m); reduce the loads, add supports or stiffen the design",
+          umax, 100 * m_settings.max_displacement_ratio, model.model_size()));
+  } catch (const SolveError&) {
+    // Keep the last valid equilibrium, including the factor its adjoint needs.
+    m_trial = m_x;
+    m_factor_at_solution = false;
+    if (m_has_solution) {
+      assemble_shell(model, m_x, m_alpha, true, m_assembly);
+      m_factor_at_solution = m_cholmod.factorize(m_assembly.hessian.data(), 0.0);
+    }
+    m_stats.converged = false;
+    m_stats.total_seconds = total.seconds();
+    throw;
+  }
+  m_x = m_trial;
+  m_alpha = alpha;
+  m_forces = forces;
+  m_has_solution = true;
+  m_stats.total_seconds = total.seconds();
+  return m_stats;
+}
+
+Eigen::VectorXd EquilibriumSolver::solve_adjoint(const Eigen::VectorXd& rhs) const {
+  if (!m_has_solution)
+    throw SolveError("sensitivities need an equilibrium: solve() has not succeeded yet");
+  if (!m_factor_at_solution)
+    throw SolveError("the equilibrium is unstable (its Hessian is not positive definite): sensitivities "
+                     "are undefined there");
+  if (rhs.size() != m_model.num_dofs())
+    throw SolveError(fmt::format("adjoint right-hand side has {} entries, the model {} free DOFs "
+                                 "(an internal error in cutwork)",
+                                 rhs.size(), m_model.num_dofs()));
+  Stopwatch sw;
+  Eigen::VectorXd out(rhs.size());
+  m_cholmod.solve(rhs.data(), out.data());
+  m_adjoint_seconds += sw.seconds();
+  return out;
+}
+
+}  // namespace cutwork::solvers

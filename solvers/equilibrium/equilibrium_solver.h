@@ -1,0 +1,131 @@
+#pragma once
+/// Static equilibrium (12) of a ShellModel for given fill ratios: Newton's method on the total
+/// potential Π(x) = Ŵ(x, α) − f_ext(α)·(x − X), with a backtracking line search on Π, warm-started
+/// from the previous equilibrium, on the reduced system over the free DOFs.
+///
+/// Per topology (constructor): the sparsity pattern, scatter map and colouring (ShellModel) and
+/// CHOLMOD's symbolic analysis. Per Newton iteration: a parallel refill of the Hessian values, a
+/// numeric refactorisation, then the convergence test, then one solve. Because the factorisation
+/// comes before the test, the factor left when Newton stops is that of the converged Hessian, and
+/// it is what solve_adjoint() uses — the adjoint never factorises anything itself.
+///
+/// Indefinite Hessians (compressed membranes, folded hinges, far from equilibrium) are regularised
+/// only when CHOLMOD reports them not positive definite: the factorisation is retried with a
+/// diagonal shift τI, τ growing tenfold until it succeeds; each shift is counted and logged.
+///
+/// Stopping: ‖∇Π‖ ≤ residual_tolerance · ‖f_ext‖ over the free DOFs (force residual relative to the
+/// load). A stiff membrane under a small load has internal forces whose round-off lies above that
+/// (≈ ε·E h·|X| per vertex); Newton then also stops when the Hessian is positive definite and the
+/// Newton step — the estimate of the remaining displacement error — is below 1e-10 of the largest
+/// displacement (or 1e-13 of the model size, the round-off of the coordinates). Failures are SolveErrors with a message a user can act on: a load that is zero or not
+/// finite, an unconstrained model (ShellModel) or one that is singular at rest, displacements beyond
+/// max_displacement_ratio of the model size (a load beyond what the structure can carry), no
+/// convergence within max_iterations, or a line search that cannot reduce Π. After a failure the
+/// solver still holds the last valid equilibrium (positions(), alpha()) — nothing partial.
+#include <functional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "solvers/linear/cholmod_solver.h"
+#include "solvers/shell/shell_energy.h"
+#include "solvers/shell/shell_model.h"
+
+namespace cutwork::solvers {
+
+struct NewtonSettings {
+  /// Converged when ‖∇Π‖ ≤ residual_tolerance · ‖f_ext‖ (free DOFs).
+  double residual_tolerance = 1e-9;
+  int max_iterations = 60;
+  /// Largest accepted displacement, as a fraction of the model size (rest bounding-box diagonal).
+  /// A shell that deflects more is beyond its capacity for this tool (and beyond the small-strain
+  /// validity of the St. Venant–Kirchhoff model).
+  double max_displacement_ratio = 0.25;
+  /// Retry from the rest state when a warm-started solve fails.
+  bool cold_restart = true;
+  /// Receives one line per notable event (shifted factorisations, restarts); may be empty.
+  std::function<void(const std::string&)> log;
+};
+
+/// What one solve() did. Times in seconds.
+struct EquilibriumStats {
+  bool converged = false;
+  int newton_iterations = 0;
+  double residual = 0;              ///< final ‖∇Π‖ / ‖f_ext‖
+  double load_norm = 0;             ///< ‖f_ext‖ over the free DOFs (N)
+  int factorizations = 0;           ///< numeric factorisations, shifted retries included
+  int shifted_factorizations = 0;   ///< Newton steps that needed a diagonal shift
+  double max_shift = 0;             ///< largest shift used (N/m)
+  int energy_evaluations = 0;       ///< line-search evaluations of Π
+  bool warm_started = false;
+  bool cold_restarted = false;
+  bool stable = true;               ///< the converged Hessian is positive definite
+  double assembly_seconds = 0;
+  double factorization_seconds = 0;
+  double solve_seconds = 0;
+  double line_search_seconds = 0;
+  double total_seconds = 0;
+};
+
+class EquilibriumSolver {
+ public:
+  /// `model` must outlive the solver. Runs CHOLMOD's symbolic analysis (timed in analysis_seconds()).
+  explicit EquilibriumSolver(const ShellModel& model, NewtonSettings settings = {});
+
+  /// Solves for the equilibrium at fill ratios `alpha` (#F), starting from the last equilibrium.
+  /// Throws InputError for bad fill ratios and SolveError as described above; the state is then
+  /// unchanged (the last valid equilibrium).
+  const EquilibriumStats& solve(const Eigen::VectorXd& alpha);
+
+  /// Forgets the warm start: the next solve starts from the rest state.
+  void reset();
+
+  /// The last valid equilibrium: positions (#V×3, m) and its fill ratios (#F). Before the first
+  /// successful solve: the rest state and an empty alpha.
+  const RowMatX3d& positions() const { return m_x; }
+  const Eigen::VectorXd& alpha() const { return m_alpha; }
+  bool has_solution() const { return m_has_solution; }
+  /// Displacements x − X (#V×3, m) and their largest norm.
+  RowMatX3d displacements() const;
+  double max_displacement() const;
+  /// f_ext(α) at the last equilibrium (#V×3, N).
+  const RowMatX3d& external_forces() const { return m_forces; }
+
+  /// Solves H λ = rhs with the factor of the converged Hessian H = ∂²Π/∂x² (free DOFs, #DOF).
+  /// Throws SolveError without a converged equilibrium or when it is unstable (H not positive
+  /// definite: sensitivities are undefined there).
+  Eigen::VectorXd solve_adjoint(const Eigen::VectorXd& rhs) const;
+  /// Seconds spent in solve_adjoint so far.
+  double adjoint_seconds() const { return m_adjoint_seconds; }
+
+  const EquilibriumStats& stats() const { return m_stats; }
+  const ShellModel& model() const { return m_model; }
+  const NewtonSettings& settings() const { return m_settings; }
+  NewtonSettings& settings() { return m_settings; }
+  const CholmodSolver& linear_solver() const { return m_cholmod; }
+  double analysis_seconds() const { return m_analysis_seconds; }
+
+ private:
+  /// Newton from m_trial; returns normally when converged (state in m_trial), throws otherwise.
+  void newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest);
+  /// Factorises the assembled Hessian, shifting when needed. Returns the shift used.
+  double factorize_with_shift(int iteration);
+  void log(const std::string& line) const;
+
+  const ShellModel& m_model;
+  NewtonSettings m_settings;
+  CholmodSolver m_cholmod;
+  ShellAssembly m_assembly;
+  RowMatX3d m_x;        ///< last valid equilibrium
+  Eigen::VectorXd m_alpha;
+  RowMatX3d m_forces;
+  RowMatX3d m_trial;    ///< Newton iterate
+  bool m_has_solution = false;
+  bool m_factor_at_solution = false;
+  double m_last_shift = 0;
+  EquilibriumStats m_stats;
+  double m_analysis_seconds = 0;
+  mutable double m_adjoint_seconds = 0;
+};
+
+}  // namespace cutwork::solvers

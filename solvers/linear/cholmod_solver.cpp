@@ -1,0 +1,169 @@
+#include "solvers/linear/cholmod_solver.h"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "host/core/error.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+std::string status_text(int status) {
+  switch (status) {
+    case CHOLMOD_OK: return "ok";
+    case CHOLMOD_NOT_INSTALLED: return "a CHOLMOD module is not installed";
+    case CHOLMOD_OUT_OF_MEMORY: return "out of memory (try a coarser simulation mesh)";
+    case CHOLMOD_TOO_LARGE: return "the problem is too large for CHOLMOD's integer type";
+    case CHOLMOD_INVALID: return "invalid input to CHOLMOD (an internal error in cutwork)";
+    case CHOLMOD_GPU_PROBLEM: return "CHOLMOD GPU failure";
+    case CHOLMOD_NOT_POSDEF: return "matrix not positive definite";
+    case CHOLMOD_DSMALL: return "tiny diagonal entry in the factor";
+    default: return "CHOLMOD status " + std::to_string(status);
+  }
+}
+
+}  // namespace
+
+struct CholmodSolver::Impl {
+  cholmod_common common;
+  cholmod_sparse matrix;             // header over pattern arrays below and caller-owned values
+  std::vector<int> column_starts;
+  std::vector<int> row_indices;
+  cholmod_factor* factor = nullptr;
+  bool factor_valid = false;
+  double shift = 0;
+  // Solve workspaces kept between calls (cholmod_solve2 reuses them).
+  mutable cholmod_dense* x = nullptr;
+  mutable cholmod_dense* y = nullptr;
+  mutable cholmod_dense* e = nullptr;
+
+  Impl() {
+    cholmod_start(&common);
+    common.print = 0;               // never print; failures are reported through SolveError
+    common.error_handler = nullptr;
+    common.supernodal = CHOLMOD_SUPERNODAL;
+    std::memset(&matrix, 0, sizeof(matrix));
+  }
+  ~Impl() {
+    release_factor();
+    cholmod_finish(&common);
+  }
+  void release_factor() {
+    if (factor) cholmod_free_factor(&factor, &common);
+    if (x) cholmod_free_dense(&x, &common);
+    if (y) cholmod_free_dense(&y, &common);
+    if (e) cholmod_free_dense(&e, &common);
+    factor_valid = false;
+  }
+  void check(const char* what) const {
+    if (common.status < 0) throw SolveError(std::string("CHOLMOD ") + what + ": " + status_text(common.status));
+  }
+};
+
+CholmodSolver::CholmodSolver() : m_impl(std::make_unique<Impl>()) {}
+CholmodSolver::~CholmodSolver() = default;
+CholmodSolver::CholmodSolver(CholmodSolver&&) noexcept = default;
+CholmodSolver& CholmodSolver::operator=(CholmodSolver&&) noexcept = default;
+
+void CholmodSolver::analyze(int n, const std::vector<int>& column_starts,
+                            const std::vector<int>& row_indices) {
+  Impl& s = *m_impl;
+  s.release_factor();
+  if (n <= 0) throw SolveError("CHOLMOD analyze: the system has no unknowns (every vertex is fixed)");
+  if (int(column_starts.size()) != n + 1 || std::size_t(column_starts.back()) != row_indices.size())
+    throw SolveError("CHOLMOD analyze: inconsistent sparsity pattern (an internal error in cutwork)");
+  s.column_starts = column_starts;
+  s.row_indices = row_indices;
+  cholmod_sparse& A = s.matrix;
+  A.nrow = A.ncol = std::size_t(n);
+  A.nzmax = row_indices.size();
+  A.p = s.column_starts.data();
+  A.i = s.row_indices.data();
+  A.nz = nullptr;
+  A.x = nullptr;
+  A.z = nullptr;
+  A.stype = 1;  // upper triangle stored
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_PATTERN;  // analysis needs the pattern only
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  s.factor = cholmod_analyze(&A, &s.common);
+  s.check("analyze");
+  if (!s.factor) throw SolveError("CHOLMOD analyze failed: " + status_text(s.common.status));
+}
+
+bool CholmodSolver::factorize(const double* values, double shift) {
+  Impl& s = *m_impl;
+  if (!s.factor) throw SolveError("CHOLMOD factorize called before analyze (an internal error in cutwork)");
+  cholmod_sparse& A = s.matrix;
+  A.xtype = CHOLMOD_REAL;
+  A.x = const_cast<double*>(values);  // read only: CHOLMOD does not modify A
+  double beta[2] = {shift, 0.0};
+  s.factor_valid = false;
+  const int ok = cholmod_factorize_p(&A, beta, nullptr, 0, s.factor, &s.common);
+  A.x = nullptr;
+  A.xtype = CHOLMOD_PATTERN;
+  s.check("factorize");
+  if (!ok) throw SolveError("CHOLMOD factorize failed: " + status_text(s.common.status));
+  if (s.common.status == CHOLMOD_NOT_POSDEF || s.factor->minor < s.factor->n) return false;
+  s.factor_valid = true;
+  s.shift = shift;
+  return true;
+}
+
+void CholmodSolver::solve(const double* b, double* x) const {
+  const Impl& s = *m_impl;
+  if (!s.factor_valid) throw SolveError("CHOLMOD solve without a valid factor (an internal error in cutwork)");
+  cholmod_dense B;
+  std::memset(&B, 0, sizeof(B));
+  B.nrow = s.factor->n;
+  B.ncol = 1;
+  B.nzmax = s.factor->n;
+  B.d = s.factor->n;
+  B.x = const_cast<double*>(b);
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  auto& common = const_cast<cholmod_common&>(s.common);
+  const int ok = cholmod_solve2(CHOLMOD_A, s.factor, &B, nullptr, &s.x, nullptr, &s.y, &s.e, &common);
+  s.check("solve");
+  if (!ok || !s.x) throw SolveError("CHOLMOD solve failed: " + status_text(s.common.status));
+  const double* result = static_cast<const double*>(s.x->x);
+  std::copy(result, result + s.factor->n, x);
+}
+
+int CholmodSolver::size() const { return m_impl->factor ? int(m_impl->factor->n) : 0; }
+bool CholmodSolver::analyzed() const { return m_impl->factor != nullptr; }
+bool CholmodSolver::has_factor() const { return m_impl->factor_valid; }
+double CholmodSolver::shift() const { return m_impl->shift; }
+
+double CholmodSolver::rcond() const {
+  if (!m_impl->factor_valid) return 0;
+  return cholmod_rcond(m_impl->factor, &m_impl->common);
+}
+
+long CholmodSolver::factor_nonzeros() const {
+  if (!m_impl->factor) return 0;
+  return long(m_impl->common.lnz);
+}
+
+std::string CholmodSolver::ordering() const {
+  if (!m_impl->factor) return "none";
+  switch (m_impl->factor->ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "amd";
+    case CHOLMOD_METIS: return "metis";
+    case CHOLMOD_NESDIS: return "nesdis";
+    case CHOLMOD_COLAMD: return "colamd";
+    case CHOLMOD_POSTORDERED: return "postordered";
+    default: return "unknown";
+  }
+}
+
+bool CholmodSolver::supernodal() const { return m_impl->factor && m_impl->factor->is_super; }
+
+}  // namespace cutwork::solvers

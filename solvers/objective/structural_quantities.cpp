@@ -1,0 +1,57 @@
+#include "solvers/objective/structural_quantities.h"
+
+#include "solvers/objective/energy_density.h"
+#include "solvers/sensitivity/fill_ratio_partials.h"
+#include "solvers/shell/shell_energy.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+void zero_fixed_rows(const ShellModel& model, RowMatX3d& m) {
+  for (int v = 0; v < model.num_vertices(); ++v)
+    if (model.vertex_node()[v] < 0) m.row(v).setZero();
+}
+
+}  // namespace
+
+EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha) {
+  EquilibriumSummary s;
+  s.strain_energy = shell_energy(model, x, alpha);
+  const RowMatX3d u = x - model.rest_positions();
+  s.compliance = (model.external_forces(alpha).array() * u.array()).sum();
+  const Eigen::VectorXd un = u.rowwise().norm();
+  s.max_displacement = un.maxCoeff(&s.max_displacement_vertex);
+  s.energy_density = energy_density(model, x, alpha);
+  s.W_max = s.energy_density.maxCoeff(&s.W_max_face);
+  return s;
+}
+
+ObjectiveTerms strain_energy_terms(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha) {
+  ShellAssembly a;
+  assemble_shell(model, x, alpha, false, a);
+  ObjectiveTerms t;
+  t.value = a.energy;
+  t.d_positions = RowMatX3d::Zero(model.num_vertices(), 3);
+  model.scatter_free(a.gradient, t.d_positions);
+  t.d_alpha = energy_alpha_gradient(model, x, alpha);
+  return t;
+}
+
+ObjectiveTerms compliance_terms(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha) {
+  const RowMatX3d u = x - model.rest_positions();
+  ObjectiveTerms t;
+  t.d_positions = model.external_forces(alpha);
+  t.value = (t.d_positions.array() * u.array()).sum();
+  zero_fixed_rows(model, t.d_positions);
+  const RowMatX3i& F = model.mesh().faces();
+  t.d_alpha.setZero(model.num_faces());
+  for (int f = 0; f < model.num_faces(); ++f) {
+    const Vec3 w = model.self_weight_per_vertex_and_alpha(f);
+    if (w.squaredNorm() == 0) continue;
+    for (int k = 0; k < 3; ++k) t.d_alpha[f] += w.dot(u.row(F(f, k)).transpose());
+  }
+  return t;
+}
+
+}  // namespace cutwork::solvers

@@ -1,0 +1,183 @@
+#include "solvers/optimize/lbfgsb.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <LBFGSB.h>
+
+namespace cutwork {
+
+namespace {
+
+/// Thrown by the tracker to leave LBFGSpp early (iteration cap, callback).
+struct StopRequested {
+  std::string reason;
+};
+/// Thrown by the tracker on a non-finite value or gradient (treated like a failed search).
+struct NonFiniteValue : std::runtime_error {
+  NonFiniteValue() : std::runtime_error("the objective returned a non-finite value or gradient") {}
+};
+
+class Tracker {
+ public:
+  Tracker(const LbfgsbObjective& f, const LbfgsbCallback& cb, int max_iterations,
+          LbfgsbResult& result)
+      : m_f(f), m_cb(cb), m_max_iterations(max_iterations), m_result(result) {}
+
+  double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    if (m_cached && x.size() == m_cache_x.size() && x == m_cache_x) {
+      g = m_cache_g;
+      return m_cache_f;
+    }
+    ++m_result.evaluations;
+    g.resize(x.size());
+    const double v = m_f(x, g);
+    if (!std::isfinite(v) || !g.allFinite()) throw NonFiniteValue();
+    m_cached = true;
+    m_cache_x = x;
+    m_cache_g = g;
+    m_cache_f = v;
+    if (!m_has_best || v < m_result.f) {
+      m_has_best = true;
+      m_result.f = v;
+      m_result.x = x;
+    }
+    return v;
+  }
+
+  /// One accepted iterate.
+  void accepted(const Eigen::VectorXd& x, double f) {
+    ++m_result.iterations;
+    m_result.history.push_back(f);
+    if (m_cb && !m_cb(m_result.iterations, x, f)) throw StopRequested{"callback"};
+    if (m_max_iterations > 0 && m_result.iterations >= m_max_iterations)
+      throw StopRequested{"iterations"};
+  }
+
+  bool has_best() const { return m_has_best; }
+
+ private:
+  const LbfgsbObjective& m_f;
+  const LbfgsbCallback& m_cb;
+  int m_max_iterations;
+  LbfgsbResult& m_result;
+  bool m_has_best = false;
+  bool m_cached = false;
+  Eigen::VectorXd m_cache_x, m_cache_g;
+  double m_cache_f = 0;
+};
+
+/// Moré–Thuente with a guaranteed decrease: if the search fails or returns a point that is not
+/// below the start (LBFGSpp accepts a step at the bound without the Armijo test), backtrack
+/// from the initial step by halving until the Armijo condition holds.
+template <typename Scalar>
+class MonotoneLineSearch {
+  using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+
+ public:
+  template <typename Foo>
+  static void LineSearch(Foo& f, Scalar& fx, Vector& x, Vector& grad, Scalar& step,
+                         const Scalar& step_max, const Vector& drt, const Vector& xp,
+                         const LBFGSpp::LBFGSBParam<Scalar>& param) {
+    const Scalar fx_init = fx;
+    const Scalar dg_init = grad.dot(drt);
+    if (!(dg_init < 0)) throw std::logic_error("the search direction is not a descent direction");
+    const Scalar step_init = step;
+    bool ok = true;
+    try {
+      LBFGSpp::LineSearchMoreThuente<Scalar>::LineSearch(f, fx, x, grad, step, step_max, drt, xp, param);
+    } catch (const NonFiniteValue&) {
+      ok = false;
+    } catch (const std::runtime_error&) {
+      ok = false;
+    }
+    if (!ok || !(fx <= fx_init + param.ftol * step * dg_init)) {
+      Scalar s = step_init;
+      bool found = false;
+      for (int k = 0; k < param.max_linesearch; ++k) {
+        s *= Scalar(0.5);
+        x.noalias() = xp + s * drt;
+        try {
+          fx = f(x, grad);
+        } catch (const NonFiniteValue&) {
+          continue;
+        }
+        if (fx <= fx_init + param.ftol * s * dg_init) {
+          found = true;
+          break;
+        }
+      }
+      if (!found) throw std::runtime_error("no decrease along the search direction");
+      step = s;
+    }
+    f.accepted(x, fx);
+  }
+};
+
+}  // namespace
+
+LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0,
+                             const Eigen::VectorXd& lb, const Eigen::VectorXd& ub,
+                             const LbfgsbOptions& options, const LbfgsbCallback& callback) {
+  if (lb.size() != x0.size() || ub.size() != x0.size())
+    throw std::invalid_argument("minimize_lbfgsb: bounds and start must have the same size");
+  if ((lb.array() > ub.array()).any())
+    throw std::invalid_argument("minimize_lbfgsb: a lower bound exceeds its upper bound");
+
+  LbfgsbResult result;
+  Tracker tracker(f, callback, options.max_iterations, result);
+  Eigen::VectorXd x = x0.cwiseMax(lb).cwiseMin(ub);
+  {
+    Eigen::VectorXd g;
+    result.f_start = tracker(x, g);
+    result.history.push_back(result.f_start);
+  }
+  if (x.size() == 0 || options.max_iterations == 0) {
+    result.stop_reason = x.size() == 0 ? "gradient" : "iterations";
+    result.converged = x.size() == 0;
+    return result;
+  }
+
+  LBFGSpp::LBFGSBParam<double> param;
+  param.m = options.memory;
+  param.epsilon = options.gradient_tolerance;
+  param.epsilon_rel = 0;
+  param.past = options.past;
+  param.delta = options.relative_decrease;
+  param.max_iterations = 0;  // the tracker enforces the cap across restarts
+  param.max_linesearch = options.max_linesearch;
+
+  double best_at_restart = result.f;
+  for (;;) {
+    LBFGSpp::LBFGSBSolver<double, MonotoneLineSearch> solver(param);
+    double fx = 0;
+    try {
+      x = result.x;
+      solver.minimize(tracker, x, fx, lb, ub);
+      // LBFGSpp returned by its own tests: the projected gradient or the decrease.
+      Eigen::VectorXd g;
+      tracker(result.x, g);
+      const double pg = ((result.x - g).cwiseMax(lb).cwiseMin(ub) - result.x).cwiseAbs().maxCoeff();
+      result.stop_reason = pg <= options.gradient_tolerance ? "gradient" : "decrease";
+      result.converged = true;
+      break;
+    } catch (const StopRequested& s) {
+      result.stop_reason = s.reason;
+      break;
+    } catch (const std::exception& e) {
+      // A failed line search or a non-descent direction: restart from the best point with a
+      // fresh Hessian approximation, unless the last restart did not help.
+      const bool no_progress = result.restarts > 0 && !(result.f < best_at_restart);
+      if (result.restarts >= options.max_restarts || no_progress) {
+        result.stop_reason = std::string("line search: ") + e.what();
+        break;
+      }
+      ++result.restarts;
+      best_at_restart = result.f;
+    }
+  }
+  return result;
+}
+
+}  // namespace cutwork

@@ -1,0 +1,57 @@
+#pragma once
+/// Bound-constrained minimisation with L-BFGS-B (Byrd, Lu, Nocedal, Zhu 1995; paper §5.4),
+/// driving LBFGSpp's LBFGSBSolver (Debian's liblbfgspp-dev) with three additions the paper
+/// asks for or a user expects:
+///  - monotone decrease (§5.4: "line search in order to ensure monotonic decrease"): LBFGSpp's
+///    Moré–Thuente search may return a step at the bound without checking the decrease; the
+///    search used here falls back to Armijo backtracking whenever the value went up;
+///  - the best point ever evaluated is returned, whatever happens (a failing line search throws
+///    inside LBFGSpp; the run restarts from the best point with a fresh Hessian approximation a
+///    few times, then stops);
+///  - iterations, evaluations, the value history and the reason for stopping are reported, and
+///    an optional callback sees every accepted iterate (progress display, cancellation).
+/// Deterministic: no threads here; the objective decides.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace cutwork {
+
+struct LbfgsbOptions {
+  int max_iterations = 200;          ///< accepted iterations in total (over restarts)
+  int memory = 8;                    ///< m, number of correction pairs
+  double gradient_tolerance = 1e-6;  ///< stop when ‖projected gradient‖∞ ≤ this
+  double relative_decrease = 1e-10;  ///< stop when f_{k−past} − f_k ≤ this · max(|f_k|, 1)
+  int past = 3;                      ///< k − past for the decrease test (0: off)
+  int max_linesearch = 40;
+  int max_restarts = 3;              ///< restarts after a failed line search
+};
+
+/// f(x, grad): returns the value and writes the gradient (same size as x).
+using LbfgsbObjective = std::function<double(const Eigen::VectorXd& x, Eigen::VectorXd& grad)>;
+/// Called after every accepted iterate with (iteration, x, f); return false to stop.
+using LbfgsbCallback = std::function<bool(int iteration, const Eigen::VectorXd& x, double f)>;
+
+struct LbfgsbResult {
+  Eigen::VectorXd x;             ///< best point evaluated
+  double f = 0;                  ///< its value
+  double f_start = 0;            ///< value at the (bound-projected) start
+  int iterations = 0;            ///< accepted iterates
+  int evaluations = 0;           ///< objective calls
+  int restarts = 0;
+  bool converged = false;        ///< stopped by a tolerance (not by the iteration cap or failure)
+  std::string stop_reason;       ///< "gradient", "decrease", "iterations", "callback", "line search: …"
+  std::vector<double> history;   ///< f after each accepted iterate (history.front() = f_start)
+};
+
+/// Minimises f over lb ≤ x ≤ ub starting at x0 (projected onto the box first).
+/// Non-finite values or gradients from f are treated as +∞ (the line search backs off).
+/// Throws std::invalid_argument for mismatched sizes or lb > ub.
+LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0,
+                             const Eigen::VectorXd& lb, const Eigen::VectorXd& ub,
+                             const LbfgsbOptions& options = {},
+                             const LbfgsbCallback& callback = {});
+
+}  // namespace cutwork

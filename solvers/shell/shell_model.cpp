@@ -1,0 +1,244 @@
+#include "solvers/shell/shell_model.h"
+
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/Geometry>
+
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+int find_root(std::vector<int>& parent, int v) {
+  while (parent[v] != v) {
+    parent[v] = parent[parent[v]];
+    v = parent[v];
+  }
+  return v;
+}
+
+std::string point_text(const Vec3& p) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", p.x(), p.y(), p.z()); }
+
+}  // namespace
+
+ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case)
+    : m_mesh(std::make_shared<SurfaceMesh>(mesh)),
+      m_material(material),
+      m_stiffness(shell_stiffness(material)),
+      m_load_case(load_case) {
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  const RowMatX3d& X = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+
+  // --- the load case must match the mesh ------------------------------------------------------
+  LoadCase& lc = m_load_case;
+  if (lc.fixed.empty()) lc.fixed.assign(nv, false);
+  if (lc.clamped.empty()) lc.clamped.assign(nv, false);
+  if (lc.forces.rows() == 0) lc.forces = RowMatX3d::Zero(nv, 3);
+  if (int(lc.fixed.size()) != nv || int(lc.clamped.size()) != nv || lc.forces.rows() != nv)
+    throw InputError(fmt::format("load case: sized for {} / {} / {} vertices, the mesh has {}",
+                                 lc.fixed.size(), lc.clamped.size(), lc.forces.rows(), nv));
+  for (int v = 0; v < nv; ++v) {
+    if (!lc.forces.row(v).allFinite())
+      throw SolveError(fmt::format("the loads are not finite: vertex {} carries the force {} N", v,
+                                   point_text(lc.forces.row(v).transpose())));
+  }
+  if (!lc.gravity.allFinite())
+    throw SolveError("the loads are not finite: gravity is " + point_text(lc.gravity) + " m/s^2");
+
+  std::vector<bool> referenced(nv, false);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) referenced[F(f, k)] = true;
+
+  m_fixed.assign(nv, false);
+  for (int v = 0; v < nv; ++v) m_fixed[v] = lc.fixed[v] || lc.clamped[v];
+
+  // --- DOF numbering: free, referenced vertices in vertex order ----------------------------------
+  m_vertex_node.assign(nv, -1);
+  for (int v = 0; v < nv; ++v) {
+    if (!referenced[v]) {
+      if (lc.forces.row(v).squaredNorm() > 0)
+        throw SolveError(fmt::format("a load acts on vertex {} at {}, which belongs to no triangle", v,
+                                     point_text(X.row(v).transpose())));
+      continue;
+    }
+    if (m_fixed[v]) continue;
+    m_vertex_node[v] = int(m_node_vertex.size());
+    m_node_vertex.push_back(v);
+  }
+  const Vec3 lo = mesh.bbox_min(), hi = mesh.bbox_max();
+  m_model_size = (hi - lo).norm();
+
+  // --- elements ------------------------------------------------------------------------------
+  m_membranes.resize(nf);
+  for (int f = 0; f < nf; ++f)
+    m_membranes[f] = membrane_rest(X.row(F(f, 0)), X.row(F(f, 1)), X.row(F(f, 2)));
+  const Eigen::VectorXd& area = mesh.face_areas();
+  const double D = m_stiffness.bending;
+
+  auto edge_clamped = [&](int a, int b) { return bool(lc.clamped[a] && lc.clamped[b]); };
+  for (const Hinge& h : mesh.hinges()) {
+    if (edge_clamped(h.v[0], h.v[1])) continue;  // replaced by a clamp hinge on each side
+    ShellHinge sh;
+    std::copy(h.v, h.v + 4, sh.v);
+    sh.face[0] = h.face[0];
+    sh.face[1] = h.face[1];
+    Vec12 x;
+    for (int k = 0; k < 4; ++k) x.segment<3>(3 * k) = X.row(h.v[k]).transpose();
+    sh.rest.rest_angle = dihedral_angle(x);
+    const double edge_length = (X.row(h.v[1]) - X.row(h.v[0])).norm();
+    sh.rest.stiffness = hinge_stiffness(D, edge_length, (area[h.face[0]] + area[h.face[1]]) / 3.0);
+    m_hinges.push_back(sh);
+  }
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3), c = F(f, (k + 2) % 3);
+      // A clamp hinge only acts through the free opposite vertex; with c fixed too it is inert.
+      if (!edge_clamped(a, b) || m_fixed[c]) continue;
+      ClampHinge ch;
+      ch.v[0] = a;
+      ch.v[1] = b;
+      ch.v[2] = c;
+      ch.face = f;
+      const Vec3 xa = X.row(a), xb = X.row(b), xc = X.row(c);
+      const Vec3 e = xb - xa;
+      const Vec3 foot = xa + e * ((xc - xa).dot(e) / e.squaredNorm());
+      ch.ghost = 2.0 * foot - xc;
+      Vec12 x;
+      x << xa, xb, xc, ch.ghost;
+      ch.rest.rest_angle = dihedral_angle(x);
+      ch.rest.stiffness = hinge_stiffness(D, e.norm(), area[f] / 3.0);
+      m_clamps.push_back(ch);
+    }
+  }
+
+  // --- supports: every connected part must be held against rigid motion -----------------------
+  if (m_node_vertex.empty())
+    throw SolveError("nothing to solve: every vertex of the mesh is fixed");
+  {
+    std::vector<int> parent(nv);
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 1; k < 3; ++k) parent[find_root(parent, F(f, k))] = find_root(parent, F(f, 0));
+    std::vector<std::vector<int>> fixed_of(nv);
+    std::vector<int> faces_of(nv, 0);
+    std::vector<bool> clamped_part(nv, false);
+    bool any_fixed = false;
+    for (int v = 0; v < nv; ++v)
+      if (referenced[v] && m_fixed[v]) {
+        fixed_of[find_root(parent, v)].push_back(v);
+        any_fixed = true;
+      }
+    for (int f = 0; f < nf; ++f) ++faces_of[find_root(parent, F(f, 0))];
+    for (const ClampHinge& ch : m_clamps) clamped_part[find_root(parent, ch.v[0])] = true;
+    if (!any_fixed)
+      throw SolveError(
+          "the model is not supported: no fixed vertices, so a rigid motion is possible (add a support "
+          "that pins or clamps part of the surface)");
+    // Bounding box of every part, for a scale-aware collinearity tolerance and a message a user
+    // can place.
+    std::vector<Vec3> part_lo(nv, Vec3::Constant(INFINITY)), part_hi(nv, Vec3::Constant(-INFINITY));
+    for (int v = 0; v < nv; ++v) {
+      if (!referenced[v]) continue;
+      const int r = find_root(parent, v);
+      part_lo[r] = part_lo[r].cwiseMin(X.row(v).transpose());
+      part_hi[r] = part_hi[r].cwiseMax(X.row(v).transpose());
+    }
+    for (int r = 0; r < nv; ++r) {
+      if (faces_of[r] == 0) continue;
+      const Vec3 centre = 0.5 * (part_lo[r] + part_hi[r]);
+      const double size = (part_hi[r] - part_lo[r]).norm();
+      const auto& fx = fixed_of[r];
+      if (fx.empty())
+        throw SolveError(fmt::format(
+            "the model is not supported: the part of the mesh with {} triangles around {} has no "
+            "fixed vertices, so a rigid motion is possible (support it as well)",
+            faces_of[r], point_text(centre)));
+      // Spread of the supports: the largest distance from the line through the two farthest ones.
+      const Vec3 p0 = X.row(fx[0]);
+      int far = fx[0];
+      for (int v : fx)
+        if ((X.row(v).transpose() - p0).norm() > (X.row(far).transpose() - p0).norm()) far = v;
+      const Vec3 dir = X.row(far).transpose() - p0;
+      double off_line = 0;
+      if (dir.norm() > 1e-12 * size) {
+        const Vec3 u = dir.normalized();
+        for (int v : fx) {
+          const Vec3 q = X.row(v).transpose() - p0;
+          off_line = std::max(off_line, (q - q.dot(u) * u).norm());
+        }
+      }
+      if (off_line <= 1e-9 * size && !clamped_part[r]) {
+        throw SolveError(fmt::format(
+            "the model is not supported: the supports of the part with {} triangles around {} {}, "
+            "so it can rotate rigidly about them (pin a third point off that line, or clamp an edge)",
+            faces_of[r], point_text(centre),
+            dir.norm() > 1e-12 * size ? "lie on one line" : "are a single point"));
+      }
+    }
+  }
+
+  // --- loads must load the free part ----------------------------------------------------------
+  {
+    bool loaded = false;
+    for (int v = 0; v < nv && !loaded; ++v)
+      loaded = m_vertex_node[v] >= 0 && lc.forces.row(v).squaredNorm() > 0;
+    if (!loaded && m_stiffness.areal_mass > 0 && lc.gravity.squaredNorm() > 0) loaded = true;
+    if (!loaded)
+      throw SolveError(
+          "the load case applies no load to the free part of the shell (all forces are zero or act on "
+          "supported vertices, and there is no self-weight): add a load");
+  }
+
+  // --- assembly pattern over the free nodes -----------------------------------------------------
+  std::vector<BlockAssembly::ElementNodes> element_nodes;
+  element_nodes.reserve(num_elements());
+  auto node = [&](int v) { return m_vertex_node[v]; };
+  for (int f = 0; f < nf; ++f) element_nodes.push_back({node(F(f, 0)), node(F(f, 1)), node(F(f, 2)), -1});
+  for (const ShellHinge& h : m_hinges)
+    element_nodes.push_back({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])});
+  for (const ClampHinge& c : m_clamps) element_nodes.push_back({node(c.v[0]), node(c.v[1]), node(c.v[2]), -1});
+  m_assembly = BlockAssembly(num_nodes(), element_nodes);
+}
+
+RowMatX3d ShellModel::external_forces(const Eigen::VectorXd& alpha) const {
+  RowMatX3d f = m_load_case.forces;
+  if (m_stiffness.areal_mass > 0 && m_load_case.gravity.squaredNorm() > 0) {
+    const RowMatX3i& F = m_mesh->faces();
+    for (int t = 0; t < num_faces(); ++t) {
+      const Vec3 w = alpha[t] * self_weight_per_vertex_and_alpha(t);
+      for (int k = 0; k < 3; ++k) f.row(F(t, k)) += w.transpose();
+    }
+  }
+  return f;
+}
+
+Vec3 ShellModel::self_weight_per_vertex_and_alpha(int face) const {
+  return m_stiffness.areal_mass * m_mesh->face_areas()[face] / 3.0 * m_load_case.gravity;
+}
+
+Eigen::VectorXd ShellModel::gather_free(const RowMatX3d& values) const {
+  Eigen::VectorXd out(num_dofs());
+  for (int n = 0; n < num_nodes(); ++n) out.segment<3>(3 * n) = values.row(m_node_vertex[n]).transpose();
+  return out;
+}
+
+void ShellModel::scatter_free(const Eigen::VectorXd& free, RowMatX3d& values) const {
+  for (int n = 0; n < num_nodes(); ++n) values.row(m_node_vertex[n]) = free.segment<3>(3 * n).transpose();
+}
+
+void ShellModel::check_fill_ratios(const Eigen::VectorXd& alpha) const {
+  if (alpha.size() != num_faces())
+    throw InputError(fmt::format("fill ratios: {} values for {} triangles", alpha.size(), num_faces()));
+  for (int t = 0; t < alpha.size(); ++t)
+    if (!std::isfinite(alpha[t]) || alpha[t] <= 0)
+      throw InputError(fmt::format("fill ratios: triangle {} has alpha = {} (expected a finite value in "
+                                   "[1e-4, 1])",
+                                   t, alpha[t]));
+}
+
+}  // namespace cutwork::solvers

@@ -1,0 +1,141 @@
+#pragma once
+/// The discrete shell of §5.1–§5.2 on one simulation mesh: elements, supports, loads, DOF numbering
+/// and the assembly pattern — everything that is fixed while fill ratios and positions change.
+///
+/// Elements (indexed in this order by the assembly: membranes, hinges, clamp hinges):
+///   - one CST membrane per face (membrane_energy.h), scaled by α_f (9);
+///   - one bending hinge per interior edge (hinge_energy.h), scaled by √(α_i α_j) (10);
+///   - one clamp hinge per (face, edge) whose two edge vertices are both clamped.
+///
+/// Supports. A pinned vertex is fixed in space: its three DOFs are eliminated (the assembled system
+/// is the reduced one over the free vertices). A clamp must also stop the surface from rotating
+/// about the support line. On a hinge shell, rotations live on the hinges, so a clamp is realised
+/// along edges: for every face f with an edge (a, b) whose two vertices are clamped, a one-sided
+/// clamp hinge (a, b, c, g) bends face f against a ghost point g, the mirror image of f's third
+/// vertex c across the edge in f's rest plane — g continues the rest surface tangentially and is
+/// fixed in space, so the clamp holds the rest tangent plane along the edge. Its stiffness uses the
+/// hinge area Ā = A_f/3 (the physical third of the hinge's diamond): with a fixed ghost, the
+/// dihedral angle at a clamped edge is half that of the mirror-symmetric (w(−s) = w(s)) continuation,
+/// which carries twice the physical energy over twice the area, hence k = (D/6)|ē|²/(A_f/3). An
+/// interior edge with both vertices clamped gets a clamp hinge on each side and loses its ordinary
+/// hinge (each side is then a clamped boundary). A clamped vertex without a clamped neighbour along
+/// an edge cannot hold a rotation on a hinge shell and acts as a pin. The clamped plate test
+/// (tests/solvers/equilibrium/plate_theory_test.cpp) checks this construction against Kirchhoff.
+/// A clamp hinge is scaled by its face's α_f (its ghost half carries no material).
+///
+/// Loads: LoadCase::forces are dead loads (N per vertex, constant in x and α); self-weight of face
+/// t is α_t ρ h A_t g, lumped equally to its three vertices (a stencil removes mass as well as
+/// stiffness). Loads on supported vertices go to the support and do no work.
+///
+/// DOF numbering: the free vertices, in vertex order, are nodes 0..n−1; node k owns free DOFs
+/// 3k, 3k+1, 3k+2 (x, y, z). Positions are #V×3 row-major arrays (metres) in vertex order.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "host/mesh/surface_mesh.h"
+#include "host/scene/load_case.h"
+#include "solvers/linear/block_assembly.h"
+#include "solvers/shell/hinge_energy.h"
+#include "solvers/shell/membrane_energy.h"
+#include "solvers/shell/shell_material.h"
+
+namespace cutwork::solvers {
+
+/// Ordinary bending hinge between faces face[0] and face[1] (vertex order of cutwork::Hinge).
+struct ShellHinge {
+  int v[4] = {-1, -1, -1, -1};
+  int face[2] = {-1, -1};
+  HingeRest rest;
+};
+
+/// One-sided clamp hinge: face `face` = (v[0], v[1], v[2]) in face order, bending about the clamped
+/// edge (v[0], v[1]) against the fixed ghost point `ghost`.
+struct ClampHinge {
+  int v[3] = {-1, -1, -1};
+  int face = -1;
+  Vec3 ghost = Vec3::Zero();
+  HingeRest rest;
+};
+
+/// Per-element energies at unit fill ratio (J): A Ψ per face, k(θ−θ̄)² per hinge and clamp hinge.
+/// The stenciled energies are these times α_f, √(α_i α_j) and α_f.
+struct ElementEnergies {
+  Eigen::VectorXd membrane;  ///< #F
+  Eigen::VectorXd hinge;     ///< #hinges
+  Eigen::VectorXd clamp;     ///< #clamp hinges
+};
+
+class ShellModel {
+ public:
+  /// Builds the shell. `load_case` must have #V entries in fixed/clamped (or be empty: none) and
+  /// #V×3 forces (or 0 rows: none); a clamped vertex is fixed as well.
+  /// Throws InputError for a load case that does not match the mesh or a bad material, and
+  /// SolveError, with a message naming the problem, for:
+  ///   - an unconstrained model: no fixed vertex at all, or a connected part of the mesh without
+  ///     support or with only collinear, unclamped supports (a rigid motion is possible);
+  ///   - non-finite forces or gravity;
+  ///   - a load case that loads no free vertex (zero load) or loads a vertex of no face.
+  ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case);
+
+  const SurfaceMesh& mesh() const { return *m_mesh; }
+  const Material& material() const { return m_material; }
+  const ShellStiffness& stiffness() const { return m_stiffness; }
+  const LoadCase& load_case() const { return m_load_case; }
+
+  int num_vertices() const { return m_mesh->num_vertices(); }
+  int num_faces() const { return m_mesh->num_faces(); }
+  /// Free vertices (nodes) and free DOFs (3 per node).
+  int num_nodes() const { return int(m_node_vertex.size()); }
+  int num_dofs() const { return 3 * num_nodes(); }
+  /// #V: node of each vertex, −1 for a fixed or unreferenced vertex.
+  const std::vector<int>& vertex_node() const { return m_vertex_node; }
+  /// #nodes: vertex of each node.
+  const std::vector<int>& node_vertex() const { return m_node_vertex; }
+  /// #V: true where the vertex is fixed (pinned or clamped).
+  const std::vector<bool>& fixed() const { return m_fixed; }
+
+  /// Rest positions X (#V×3, m).
+  const RowMatX3d& rest_positions() const { return m_mesh->vertices(); }
+  /// Diagonal of the rest bounding box (m): the model size of the displacement limit.
+  double model_size() const { return m_model_size; }
+
+  const std::vector<MembraneRest>& membranes() const { return m_membranes; }
+  const std::vector<ShellHinge>& hinges() const { return m_hinges; }
+  const std::vector<ClampHinge>& clamp_hinges() const { return m_clamps; }
+  int num_elements() const { return int(m_membranes.size() + m_hinges.size() + m_clamps.size()); }
+
+  /// Pattern, scatter map and colouring of the reduced Hessian (built once).
+  const BlockAssembly& assembly() const { return m_assembly; }
+
+  /// External forces f_ext(α) (#V×3, N): dead loads plus α-scaled self-weight. Rows of fixed
+  /// vertices included (they do no work).
+  RowMatX3d external_forces(const Eigen::VectorXd& alpha) const;
+  /// ∂f_ext/∂α_t per face: the self-weight ρ h A_t g / 3 that face t puts on each of its vertices
+  /// (N per unit fill ratio). Zero without gravity.
+  Vec3 self_weight_per_vertex_and_alpha(int face) const;
+
+  /// Free-DOF vector (#DOF) of the free rows of a #V×3 array, and back (fixed rows untouched).
+  Eigen::VectorXd gather_free(const RowMatX3d& values) const;
+  void scatter_free(const Eigen::VectorXd& free, RowMatX3d& values) const;
+
+  /// Throws InputError unless alpha has #F finite entries > 0 (the fill kernel clamps at 1e-4).
+  void check_fill_ratios(const Eigen::VectorXd& alpha) const;
+
+ private:
+  std::shared_ptr<const SurfaceMesh> m_mesh;
+  Material m_material;
+  ShellStiffness m_stiffness;
+  LoadCase m_load_case;
+  std::vector<bool> m_fixed;
+  std::vector<int> m_vertex_node;
+  std::vector<int> m_node_vertex;
+  double m_model_size = 0;
+  std::vector<MembraneRest> m_membranes;
+  std::vector<ShellHinge> m_hinges;
+  std::vector<ClampHinge> m_clamps;
+  BlockAssembly m_assembly;
+};
+
+}  // namespace cutwork::solvers

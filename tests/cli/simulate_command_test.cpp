@@ -1,0 +1,102 @@
+// `cutwork simulate`: the report and fields it writes for the built-in scenes, and bad supports or
+// loads ending as one line on stderr, exit code 2 and nothing written.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/test_support.h"
+
+namespace cutwork {
+namespace {
+namespace fs = std::filesystem;
+using test::run_cutwork;
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+/// The built-in plate scene as a document, to be modified into bad inputs.
+nlohmann::json plate_scene() {
+  const auto r = run_cutwork("show plate");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+void expect_failure_without_output(const std::string& args, const fs::path& out, const std::string& fragment) {
+  const auto r = run_cutwork(args + " --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << "missing '" << fragment << "' in: " << r.err;
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  EXPECT_FALSE(fs::exists(out / "fields.ply"));
+}
+
+TEST(CliSimulate, WritesReportAndFieldsForTheBuiltinScenes) {
+  const fs::path dir = test::temp_dir("simulate");
+  for (const char* scene : {"plate", "pavilion", "bowl"}) {
+    SCOPED_TRACE(scene);
+    const fs::path out = dir / scene;
+    const auto r = run_cutwork(std::string("simulate ") + scene + " --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_EQ(report["scene"], scene);
+    const auto& eq = report["equilibrium"];
+    for (const char* key : {"max_displacement", "strain_energy", "compliance", "W_max", "newton_iterations",
+                            "residual", "converged"})
+      EXPECT_TRUE(eq.contains(key)) << key;
+    EXPECT_TRUE(eq["converged"].get<bool>());
+    EXPECT_GT(eq["max_displacement"].get<double>(), 0.0);
+    EXPECT_GT(eq["strain_energy"].get<double>(), 0.0);
+    EXPECT_GT(eq["compliance"].get<double>(), 0.0);
+    EXPECT_GT(eq["W_max"].get<double>(), 0.0);
+    for (const char* key : {"assembly", "factorization", "solve"}) EXPECT_TRUE(report["timings"].contains(key)) << key;
+    EXPECT_GT(report["mesh"]["sim_triangles"].get<int>(), 0);
+    // fields.ply: binary PLY with the per-face fields named in its header.
+    std::ifstream ply(out / "fields.ply", std::ios::binary);
+    std::string header, line;
+    while (std::getline(ply, line) && line != "end_header") header += line + "\n";
+    EXPECT_NE(header.find("property double alpha"), std::string::npos) << header;
+    EXPECT_NE(header.find("property double W"), std::string::npos) << header;
+    EXPECT_NE(header.find("element face " + std::to_string(report["mesh"]["sim_triangles"].get<int>())),
+              std::string::npos)
+        << header;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(CliSimulate, BadSupportsAndLoadsAreOneLineErrors) {
+  const fs::path dir = test::temp_dir("simulate_bad");
+  auto scene_file = [&](const std::string& name, const nlohmann::json& doc) {
+    const fs::path p = dir / (name + ".json");
+    std::ofstream(p) << doc.dump(2);
+    return p.string();
+  };
+
+  nlohmann::json doc = plate_scene();
+  doc["supports"] = nlohmann::json::array();
+  expect_failure_without_output("simulate " + scene_file("unsupported", doc), dir / "out1", "not supported");
+
+  doc = plate_scene();
+  doc["loads"][0]["force"] = {0.0, 0.0, 0.0};
+  expect_failure_without_output("simulate " + scene_file("zero", doc), dir / "out2", "no load");
+
+  doc = plate_scene();
+  doc["loads"][0]["force"] = {0.0, 0.0, -1e6};
+  expect_failure_without_output("simulate " + scene_file("overload", doc), dir / "out3", "can carry");
+
+  expect_failure_without_output("simulate plate --stencils " + (dir / "stencils.json").string(), dir / "out4",
+                                "--stencils");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cutwork

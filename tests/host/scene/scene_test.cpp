@@ -1,0 +1,183 @@
+// Scenes: parsing, validation messages (JSON path + accepted range), round trip, built-ins,
+// selectors and load resolution.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "host/core/error.h"
+#include "host/scene/scene.h"
+
+namespace cutwork {
+namespace {
+
+using nlohmann::json;
+
+json minimal_scene() {
+  return json::parse(R"({
+    "name": "t",
+    "mesh": {"generator": "sheet"},
+    "supports": [{"type": "pinned", "select": {"entity": "boundary_vertices"}}],
+    "loads": [{"type": "self_weight"}]
+  })");
+}
+
+// Expects parse_scene to throw an InputError whose message contains every fragment.
+void expect_rejected(const json& doc, std::initializer_list<const char*> fragments) {
+  try {
+    parse_scene(doc, "test.json");
+    ADD_FAILURE() << "accepted: " << doc.dump();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_EQ(msg.rfind("test.json: ", 0), 0u) << msg;
+    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "missing '" << f << "' in: " << msg;
+  }
+}
+
+TEST(Scene, MinimalSceneTakesDefaults) {
+  const Scene s = parse_scene(minimal_scene(), "test.json");
+  EXPECT_EQ(s.name, "t");
+  EXPECT_EQ(s.mesh.generator, "sheet");
+  EXPECT_GT(s.mesh.edge_length, 0);
+  EXPECT_DOUBLE_EQ(s.material.poisson_ratio, Material{}.poisson_ratio);
+  ASSERT_EQ(s.loads.size(), 1u);
+  EXPECT_EQ(s.loads[0].kind, LoadKind::SelfWeight);
+  EXPECT_DOUBLE_EQ(s.loads[0].gravity[2], -9.81);
+}
+
+TEST(Scene, UnknownKeysNameTheirPath) {
+  json d = minimal_scene();
+  d["colour"] = "red";
+  expect_rejected(d, {"/colour", "unknown key"});
+  d = minimal_scene();
+  d["material"] = {{"youngs_modulus", 1e9}, {"poisons_ratio", 0.3}};
+  expect_rejected(d, {"/material/poisons_ratio", "unknown key", "poisson_ratio"});
+  d = minimal_scene();
+  d["supports"][0]["select"]["w"] = {{"below", 1}};
+  expect_rejected(d, {"/supports/0/select/w", "unknown key"});
+}
+
+TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
+  json d = minimal_scene();
+  d["material"] = {{"poisson_ratio", 0.7}};
+  expect_rejected(d, {"/material/poisson_ratio", "[0, 0.5)", "0.7"});
+  d["material"] = {{"youngs_modulus", "stiff"}};
+  expect_rejected(d, {"/material/youngs_modulus", "expected a number", "string"});
+  d["material"] = {{"thickness", -0.001}};
+  expect_rejected(d, {"/material/thickness", "(0, 10]"});
+  d = minimal_scene();
+  d["structure"] = {{"beta", 1.5}};
+  expect_rejected(d, {"/structure/beta", "(0, 1]"});
+  d["structure"] = {{"objective", "strongest"}};
+  expect_rejected(d, {"/structure/objective", "energy_density", "compliance"});
+  d = minimal_scene();
+  d["pattern"] = {{"seed", 1.5}};
+  expect_rejected(d, {"/pattern/seed", "integer"});
+  d = minimal_scene();
+  d["loads"][0] = {{"type", "point"}, {"force", {0, 0}}, {"select", {{"entity", "vertices"}}}};
+  expect_rejected(d, {"/loads/0/force", "3 numbers"});
+  d["loads"][0] = {{"type", "gust"}};
+  expect_rejected(d, {"/loads/0/type", "self_weight"});
+  d["loads"][0] = {{"type", "edge"}, {"force", {0, 0, 1}}, {"select", {{"entity", "faces"}}}};
+  expect_rejected(d, {"/loads/0/select", "edges"});
+  d = minimal_scene();
+  d["supports"][0]["select"]["z"] = {{"above", 1.0}, {"below", 0.5}};
+  expect_rejected(d, {"/supports/0/select/z", "less than"});
+  d = minimal_scene();
+  d["mesh"] = {{"generator", "teapot"}};
+  expect_rejected(d, {"/mesh/generator", "teapot", "pavilion"});
+  d["mesh"] = {{"generator", "plate"}, {"file", "x.obj"}};
+  expect_rejected(d, {"/mesh", "exactly one"});
+  d["mesh"] = {{"generator", "plate"}, {"params", {{"girth", 2}}}};
+  expect_rejected(d, {"/mesh/params/girth", "unknown key"});
+  d = minimal_scene();
+  d["stencils"] = json::array({{{"kind", "dodecahedron"}}});
+  expect_rejected(d, {"/stencils/0", "dodecahedron"});
+  d = minimal_scene();
+  d["pattern"] = {{"objective", "exemplar"}};
+  expect_rejected(d, {"/pattern/exemplar", "required"});
+  d = minimal_scene();
+  d.erase("mesh");
+  expect_rejected(d, {"/mesh", "required"});
+  expect_rejected(json::array(), {"expected an object"});
+}
+
+TEST(Scene, RoundTripIsExact) {
+  for (const auto& b : builtin_scenes()) {
+    SCOPED_TRACE(b.name);
+    const Scene s = parse_scene(builtin_scene_json(b.name), "builtin:" + b.name);
+    const auto once = scene_to_json(s);
+    const auto twice = scene_to_json(parse_scene(json::parse(once.dump()), "roundtrip"));
+    EXPECT_EQ(once, twice);
+  }
+}
+
+TEST(Scene, EveryBuiltinSceneBuildsAndResolves) {
+  ASSERT_GE(builtin_scenes().size(), 6u);
+  for (const auto& b : builtin_scenes()) {
+    SCOPED_TRACE(b.name);
+    const Scene s = load_scene(b.name);
+    const SceneMeshes m = build_scene_meshes(s);
+    EXPECT_GT(m.base.num_faces(), 0);
+    EXPECT_LE(m.sim.num_faces(), m.base.num_faces());
+    const LoadCase lc = resolve_load_case(s, m.sim);
+    int fixed = 0;
+    for (bool f : lc.fixed) fixed += f;
+    EXPECT_GE(fixed, 2) << "every built-in scene is supported";
+    const double load = lc.forces.norm() + lc.gravity.norm();
+    EXPECT_GT(load, 0) << "every built-in scene is loaded";
+    EXPECT_EQ(m.map.vertex_on_sim.size(), size_t(m.base.num_vertices()));
+  }
+}
+
+TEST(Scene, UnknownBuiltinListsTheKnownOnes) {
+  try {
+    load_scene("no-such-scene");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pavilion"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Scene, SelectorsAndLoadsResolve) {
+  // The built-in sheet is the unit square centred at the origin.
+  const json d = json::parse(R"({
+    "mesh": {"generator": "sheet", "edge_length": 0.1, "sim_edge_length": 0.1},
+    "supports": [{"type": "clamped", "select": {"entity": "vertices", "x": {"below": -0.4999999}}}],
+    "loads": [
+      {"type": "point", "force": [0, 0, -3], "select": {"near": {"point": [0.5, 0, 0]}, "nearest": 1}},
+      {"type": "area", "force": [0, 0, -10], "select": {"entity": "faces"}},
+      {"type": "edge", "force": [1, 0, 0], "select": {"entity": "boundary_edges", "x": {"above": 0.4999999}}}
+    ]})");
+  const Scene s = parse_scene(d, "test.json");
+  const SceneMeshes m = build_scene_meshes(s);
+  const LoadCase lc = resolve_load_case(s, m.sim);
+  // Clamped vertices are those on x = 0, and all of them are fixed.
+  for (int v = 0; v < m.sim.num_vertices(); ++v) {
+    const bool on_left = m.sim.vertices()(v, 0) < -0.4999999;
+    EXPECT_EQ(lc.clamped[v], on_left);
+    EXPECT_EQ(lc.fixed[v], on_left);
+  }
+  // Totals: point −3 z; area −10 N/m² over the unit square; edge 1 N/m over the unit-length side.
+  const Vec3 total = lc.forces.colwise().sum().transpose();
+  EXPECT_NEAR(total[2], -3.0 - 10.0, 1e-9);
+  EXPECT_NEAR(total[0], 1.0, 1e-9);
+  EXPECT_NEAR(total[1], 0.0, 1e-12);
+}
+
+TEST(Scene, SelectingNothingIsAnError) {
+  json d = minimal_scene();
+  d["supports"] = json::array({{{"select", {{"entity", "vertices"}, {"z", {{"above", 5}}}}}}});
+  const Scene s = parse_scene(d, "test.json");
+  const SceneMeshes m = build_scene_meshes(s);
+  try {
+    resolve_load_case(s, m.sim);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/supports/0/select"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("selects no vertices"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace cutwork

@@ -1,0 +1,53 @@
+#pragma once
+/// Meshes and helpers shared by the host/stencil tests.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "host/mesh/surface_mesh.h"
+
+namespace cutwork::test {
+
+/// Regular grid of n×n square cells of size h over [0, n h]² in the plane z = 0, each cell
+/// split along its (i, j)–(i+1, j+1) diagonal into a lower-right and an upper-left triangle
+/// (faces 2 (j n + i) and 2 (j n + i) + 1), CCW seen from +z.
+inline SurfaceMesh flat_grid(int n, double h) {
+  RowMatX3d v((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) v.row(j * (n + 1) + i) << i * h, j * h, 0.0;
+  RowMatX3i f(2 * n * n, 3);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      f.row(2 * (j * n + i)) << a, b, d;
+      f.row(2 * (j * n + i) + 1) << a, d, c;
+    }
+  }
+  return SurfaceMesh(std::move(v), std::move(f), "flat grid");
+}
+
+/// Exact area of (grid triangle `face` of flat_grid(n, h)) ∩ [X0, X1] × [Y0, Y1]: the integral
+/// over x of the covered length of the vertical line, a piecewise-linear function integrated
+/// exactly by the trapezoid rule between its breakpoints.
+inline double grid_triangle_rectangle_overlap(int n, double h, int face, double X0, double X1,
+                                              double Y0, double Y1) {
+  const int cell = face / 2, i = cell % n, j = cell / n;
+  const bool lower = face % 2 == 0;  // lower: y0 ≤ y ≤ y0 + (x − x0); upper: above the diagonal
+  const double x0 = i * h, x1 = x0 + h, y0 = j * h, y1 = y0 + h;
+  auto bottom = [&](double x) { return lower ? y0 : y0 + (x - x0); };
+  auto top = [&](double x) { return lower ? y0 + (x - x0) : y1; };
+  auto g = [&](double x) { return std::max(0.0, std::min(top(x), Y1) - std::max(bottom(x), Y0)); };
+  const double xa = std::max(x0, X0), xb = std::min(x1, X1);
+  if (!(xb > xa)) return 0.0;
+  // Breakpoints: where the diagonal y = y0 + (x − x0) meets Y0 or Y1.
+  std::vector<double> xs{xa, xb, x0 + (Y0 - y0), x0 + (Y1 - y0)};
+  std::sort(xs.begin(), xs.end());
+  double area = 0;
+  for (size_t k = 0; k + 1 < xs.size(); ++k) {
+    const double a = std::max(xs[k], xa), b = std::min(xs[k + 1], xb);
+    if (b > a) area += 0.5 * (g(a) + g(b)) * (b - a);
+  }
+  return area;
+}
+
+}  // namespace cutwork::test

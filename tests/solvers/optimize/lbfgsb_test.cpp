@@ -1,0 +1,126 @@
+// The L-BFGS-B driver: known minima with and without active bounds, monotone decrease, the
+// best point kept through failures, iteration caps and callbacks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "solvers/optimize/lbfgsb.h"
+
+namespace cutwork {
+namespace {
+
+double rosenbrock(const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+  double f = 0;
+  g.setZero(x.size());
+  for (Eigen::Index i = 0; i + 1 < x.size(); ++i) {
+    const double a = x[i + 1] - x[i] * x[i], b = 1 - x[i];
+    f += 100 * a * a + b * b;
+    g[i] += -400 * a * x[i] - 2 * b;
+    g[i + 1] += 200 * a;
+  }
+  return f;
+}
+
+bool monotone(const std::vector<double>& h) {
+  for (size_t k = 1; k < h.size(); ++k)
+    if (h[k] > h[k - 1]) return false;
+  return true;
+}
+
+TEST(Lbfgsb, RosenbrockUnconstrained) {
+  const int n = 10;
+  Eigen::VectorXd x0 = Eigen::VectorXd::Constant(n, -1.2);
+  const Eigen::VectorXd lb = Eigen::VectorXd::Constant(n, -INFINITY), ub = Eigen::VectorXd::Constant(n, INFINITY);
+  LbfgsbOptions o;
+  o.max_iterations = 500;
+  o.gradient_tolerance = 1e-8;
+  o.relative_decrease = 0;
+  const LbfgsbResult r = minimize_lbfgsb(rosenbrock, x0, lb, ub, o);
+  EXPECT_TRUE(r.converged) << r.stop_reason;
+  EXPECT_NEAR((r.x - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff(), 0.0, 1e-6);
+  EXPECT_TRUE(monotone(r.history));
+  EXPECT_EQ(int(r.history.size()), r.iterations + 1);
+  EXPECT_GT(r.evaluations, r.iterations);
+}
+
+TEST(Lbfgsb, ActiveBounds) {
+  // min Σ (x_i − c_i)² with c outside the box: the solution is c clamped to the box.
+  const Eigen::Vector4d c(2, -3, 0.5, 0.25);
+  const Eigen::Vector4d lb(-1, -1, -1, 0.5), ub(1, 1, 1, 1);
+  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    g = 2 * (x - Eigen::VectorXd(c));
+    return (x - Eigen::VectorXd(c)).squaredNorm();
+  };
+  const LbfgsbResult r = minimize_lbfgsb(f, Eigen::VectorXd::Zero(4), lb, ub);
+  EXPECT_TRUE(r.converged);
+  EXPECT_NEAR((r.x - Eigen::VectorXd(Eigen::Vector4d(1, -1, 0.5, 0.5))).norm(), 0.0, 1e-9);
+  // A start outside the box is projected first.
+  const LbfgsbResult r2 = minimize_lbfgsb(f, Eigen::VectorXd::Constant(4, 5.0), lb, ub);
+  EXPECT_NEAR(r2.f_start, (Eigen::VectorXd(ub) - Eigen::VectorXd(c)).squaredNorm(), 1e-12);
+}
+
+TEST(Lbfgsb, IterationCapAndCallbackStop) {
+  Eigen::VectorXd x0 = Eigen::VectorXd::Constant(6, -1.2);
+  const Eigen::VectorXd lb = Eigen::VectorXd::Constant(6, -5), ub = Eigen::VectorXd::Constant(6, 5);
+  LbfgsbOptions o;
+  o.max_iterations = 7;
+  LbfgsbResult r = minimize_lbfgsb(rosenbrock, x0, lb, ub, o);
+  EXPECT_EQ(r.iterations, 7);
+  EXPECT_EQ(r.stop_reason, "iterations");
+  EXPECT_FALSE(r.converged);
+  int seen = 0;
+  o.max_iterations = 100;
+  r = minimize_lbfgsb(rosenbrock, x0, lb, ub, o, [&](int it, const Eigen::VectorXd&, double) {
+    seen = it;
+    return it < 3;
+  });
+  EXPECT_EQ(seen, 3);
+  EXPECT_EQ(r.iterations, 3);
+  EXPECT_EQ(r.stop_reason, "callback");
+  o.max_iterations = 0;
+  r = minimize_lbfgsb(rosenbrock, x0, lb, ub, o);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(r.x, x0);
+}
+
+TEST(Lbfgsb, KeepsTheBestPointWhenTheObjectiveMisbehaves) {
+  // A wrong gradient (sign flipped in one component) makes line searches fail; the driver
+  // restarts, then stops, returning the best point it evaluated — never a worse one.
+  auto f = [](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    g = 2 * x;
+    g[0] = -g[0];
+    return x.squaredNorm();
+  };
+  Eigen::VectorXd x0(3);
+  x0 << 1, 1, 1;
+  const Eigen::VectorXd lb = Eigen::VectorXd::Constant(3, -INFINITY), ub = Eigen::VectorXd::Constant(3, INFINITY);
+  const LbfgsbResult r = minimize_lbfgsb(f, x0, lb, ub);
+  EXPECT_LE(r.f, 3.0);
+  EXPECT_TRUE(monotone(r.history));
+  EXPECT_NEAR(r.f, r.x.squaredNorm(), 0);
+  // Non-finite values are backed off from.
+  auto g = [](const Eigen::VectorXd& x, Eigen::VectorXd& gr) {
+    gr = 2 * (x - Eigen::VectorXd::Constant(x.size(), 3.0));
+    if (x[0] > 2.5) return std::nan("");
+    return (x - Eigen::VectorXd::Constant(x.size(), 3.0)).squaredNorm();
+  };
+  const LbfgsbResult r2 = minimize_lbfgsb(g, Eigen::VectorXd::Zero(2), lb.head(2), ub.head(2));
+  EXPECT_TRUE(std::isfinite(r2.f));
+  EXPECT_LE(r2.x[0], 2.5);
+  EXPECT_LT(r2.f, r2.f_start);
+  EXPECT_TRUE(monotone(r2.history));
+}
+
+TEST(Lbfgsb, BadArguments) {
+  auto f = [](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    g = x;
+    return 0.5 * x.squaredNorm();
+  };
+  EXPECT_THROW(minimize_lbfgsb(f, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Zero(3), Eigen::VectorXd::Ones(2)),
+               std::invalid_argument);
+  EXPECT_THROW(minimize_lbfgsb(f, Eigen::VectorXd::Zero(2), Eigen::VectorXd::Ones(2), Eigen::VectorXd::Zero(2)),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace cutwork

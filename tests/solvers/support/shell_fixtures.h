@@ -1,0 +1,60 @@
+#pragma once
+/// Shell models shared by the sensitivity and objective tests.
+#include <memory>
+#include <random>
+
+#include "solvers/shell/shell_model.h"
+#include "tests/solvers/support/test_meshes.h"
+
+namespace cutwork::test {
+
+using solvers::ShellModel;
+
+/// Laser-sintered PA12, 3 mm.
+inline Material pa12() {
+  Material m;
+  m.youngs_modulus = 1.7e9;
+  m.poisson_ratio = 0.4;
+  m.thickness = 0.003;
+  m.density = 1010;
+  return m;
+}
+
+/// A shallow cap (0.5 m × 0.4 m, 5 cm rise) of PA12, clamped on x = 0, pinned at the opposite
+/// corners, under an oblique pressure and self-weight, with random fill ratios in [0.2, 1].
+struct CapFixture {
+  SurfaceMesh mesh = test::cap(0.5, 0.4, 8, 0.05);
+  LoadCase lc;
+  std::unique_ptr<ShellModel> model;
+  Eigen::VectorXd alpha;
+
+  explicit CapFixture(unsigned seed) {
+    const int nv = mesh.num_vertices();
+    lc.fixed.assign(nv, false);
+    lc.clamped.assign(nv, false);
+    for (int v = 0; v < nv; ++v) {
+      const Vec3 p = mesh.vertices().row(v);
+      if (p.x() < 1e-9) lc.clamped[v] = lc.fixed[v] = true;
+      if (p.x() > 0.5 - 1e-9 && (p.y() < 1e-9 || p.y() > 0.4 - 1e-9)) lc.fixed[v] = true;
+    }
+    lc.forces = test::pressure_forces(mesh, 400.0, Vec3(0.2, 0, -1).normalized());
+    lc.gravity = Vec3(0, 0, -9.81);
+    model = std::make_unique<ShellModel>(mesh, pa12(), lc);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> a(0.2, 1.0);
+    alpha.resize(mesh.num_faces());
+    for (int f = 0; f < alpha.size(); ++f) alpha[f] = a(rng);
+  }
+
+  /// Positions slightly off any equilibrium (partials do not need one).
+  RowMatX3d perturbed(unsigned seed) const {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    RowMatX3d x = mesh.vertices();
+    for (int v = 0; v < x.rows(); ++v)
+      if (!model->fixed()[v]) x.row(v) += 0.004 * Vec3(u(rng), u(rng), u(rng)).transpose();
+    return x;
+  }
+};
+
+}  // namespace cutwork::test

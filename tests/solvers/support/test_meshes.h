@@ -1,0 +1,110 @@
+#pragma once
+/// Flat test meshes built directly from arrays (no scene code): rectangles in the z = 0 plane,
+/// counter-clockwise seen from +z (normals +z).
+#include <vector>
+
+#include "host/mesh/surface_mesh.h"
+
+namespace cutwork::test {
+
+/// Near-equilateral triangulation of [0, lx] × [0, ly]: nx segments along x on even rows, odd rows
+/// shifted by half a segment (with half triangles at the ends), rows spaced as close to √3/2 of
+/// the segment as the height allows (ny > 0: exactly ny rows). The mesh on which the hinge model is
+/// isotropic; with ly = ny·(√3/2)·lx/nx its inner triangles are exactly equilateral.
+inline SurfaceMesh equilateral_rectangle(double lx, double ly, int nx, int ny = 0) {
+  const double dx = lx / nx;
+  if (ny <= 0) ny = std::max(1, int(std::lround(ly / (dx * std::sqrt(3.0) / 2.0))));
+  std::vector<std::vector<int>> rows(ny + 1);
+  std::vector<Vec3> verts;
+  for (int j = 0; j <= ny; ++j) {
+    const double y = ly * j / ny;
+    std::vector<double> xs;
+    if (j % 2 == 0) {
+      for (int i = 0; i <= nx; ++i) xs.push_back(dx * i);
+    } else {
+      xs.push_back(0);
+      for (int i = 0; i < nx; ++i) xs.push_back(dx * (i + 0.5));
+      xs.push_back(lx);
+    }
+    for (double x : xs) {
+      rows[j].push_back(int(verts.size()));
+      verts.emplace_back(x, y, 0);
+    }
+  }
+  std::vector<Eigen::Vector3i> faces;
+  for (int j = 0; j < ny; ++j) {
+    const auto& A = rows[j];
+    const auto& B = rows[j + 1];
+    std::size_t i = 0, k = 0;
+    while (i + 1 < A.size() || k + 1 < B.size()) {
+      const bool advance_bottom =
+          k + 1 >= B.size() || (i + 1 < A.size() && verts[A[i + 1]].x() <= verts[B[k + 1]].x() + 1e-12);
+      if (advance_bottom) {
+        faces.emplace_back(A[i], A[i + 1], B[k]);
+        ++i;
+      } else {
+        faces.emplace_back(A[i], B[k + 1], B[k]);
+        ++k;
+      }
+    }
+  }
+  RowMatX3d V(verts.size(), 3);
+  for (std::size_t v = 0; v < verts.size(); ++v) V.row(v) = verts[v].transpose();
+  RowMatX3i F(faces.size(), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) F.row(f) = faces[f].transpose();
+  return SurfaceMesh(V, F, "equilateral rectangle");
+}
+
+/// Regular grid of nx × ny squares on [0, lx] × [0, ly], each split along its diagonal from
+/// (i, j) to (i+1, j+1) (all diagonals parallel).
+inline SurfaceMesh grid_rectangle(double lx, double ly, int nx, int ny) {
+  RowMatX3d V((nx + 1) * (ny + 1), 3);
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) V.row(j * (nx + 1) + i) << lx * i / nx, ly * j / ny, 0;
+  RowMatX3i F(2 * nx * ny, 3);
+  int f = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 2, d = a + nx + 1;
+      F.row(f++) << a, b, c;
+      F.row(f++) << a, c, d;
+    }
+  return SurfaceMesh(V, F, "grid rectangle");
+}
+
+/// Vertex indices whose position satisfies pred.
+template <typename Pred>
+std::vector<int> select_vertices(const SurfaceMesh& mesh, Pred&& pred) {
+  std::vector<int> out;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (pred(mesh.vertices().row(v).transpose())) out.push_back(v);
+  return out;
+}
+
+/// Lumped uniform pressure p (Pa) along direction `dir` on every face: p A_f / 3 per vertex.
+inline RowMatX3d pressure_forces(const SurfaceMesh& mesh, double p, const Vec3& dir) {
+  RowMatX3d f = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  for (int t = 0; t < mesh.num_faces(); ++t)
+    for (int k = 0; k < 3; ++k) f.row(mesh.faces()(t, k)) += (p * mesh.face_areas()[t] / 3.0 * dir).transpose();
+  return f;
+}
+
+}  // namespace cutwork::test
+
+namespace cutwork::test {
+
+/// A shallow cap: equilateral_rectangle(lx, ly, nx) lifted to z = height·(1 − r²/r_max²), r the
+/// distance from the centre — curved, so membrane and bending couple.
+inline SurfaceMesh cap(double lx, double ly, int nx, double height) {
+  const SurfaceMesh flat = equilateral_rectangle(lx, ly, nx);
+  RowMatX3d V = flat.vertices();
+  const Vec2 c(lx / 2, ly / 2);
+  const double r2max = c.squaredNorm();
+  for (int v = 0; v < V.rows(); ++v) {
+    const double r2 = (Vec2(V(v, 0), V(v, 1)) - c).squaredNorm();
+    V(v, 2) = height * (1 - r2 / r2max);
+  }
+  return SurfaceMesh(V, flat.faces(), "cap");
+}
+
+}  // namespace cutwork::test

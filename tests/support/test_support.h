@@ -1,0 +1,21 @@
+#pragma once
+/// Helpers shared by the test suites: paths, temporary directories, running the CLI.
+#include <filesystem>
+#include <string>
+
+namespace cutwork::test {
+
+/// tests/data in the source tree.
+std::filesystem::path data_dir();
+/// A fresh, empty directory under the system temp dir, unique to this process and `tag`.
+std::filesystem::path temp_dir(const std::string& tag);
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;   ///< stdout
+  std::string err;   ///< stderr
+};
+/// Runs `<build>/bin/cutwork <args>` through the shell and captures stdout and stderr.
+CommandResult run_cutwork(const std::string& args);
+
+}  // namespace cutwork::test
