@@ -3,7 +3,13 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
 #include <iostream>
+
+#include <fmt/format.h>
 
 #include "host/core/error.h"
 
@@ -50,6 +56,45 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
 
 void say(const RunOptions& opts, const std::string& line) {
   if (!opts.quiet) std::cerr << line << "\n";
+}
+
+void add_device_option(CLI::App& cmd, std::string& device) {
+  cmd.add_option("--device", device,
+                 "where the clip and fill kernels run: cpu (TBB), vulkan (a GPU, else Mesa's lavapipe; "
+                 "CUTWORK_VK_DEVICE picks one), or auto (Vulkan when a device exists, else the CPU)")
+      ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
+      ->capture_default_str();
+}
+
+DeviceChoice choose_device(const std::string& device, const RunOptions& opts) {
+  (void)opts;
+  DeviceChoice c;
+  c.backend = select_compute_backend(parse_device_request(device), &std::cerr);
+  c.fill = FillRatioOptions::for_backend(c.backend);
+  c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver}};
+  if (!c.backend.fallback_reason.empty()) c.report["fallback_reason"] = c.backend.fallback_reason;
+  return c;
+}
+
+ProgressLine::ProgressLine(const RunOptions& opts) : m_active(!opts.quiet && isatty(fileno(stdout))) {}
+
+ProgressLine::~ProgressLine() { finish(); }
+
+void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
+  if (!m_active || (m_dirty && m_since_draw.seconds() < 0.1)) return;
+  m_since_draw.restart();
+  const std::string w = std::isfinite(p.W_max) ? fmt::format("{:.4g} J/m^2", p.W_max) : std::string("-");
+  std::cout << fmt::format("\r\x1b[K{:<9} round {:>3}  iteration {:>5}  J {:>12.6g}  |grad J| {:>10.3e}  W_max {:<14} "
+                           "{} stencils  {:.1f} s",
+                           phase, p.round, p.iteration, p.objective, p.gradient_norm, w, p.stencils,
+                           m_clock.seconds())
+            << std::flush;
+  m_dirty = true;
+}
+
+void ProgressLine::finish() {
+  if (m_active && m_dirty) std::cout << "\r\x1b[K" << std::flush;
+  m_dirty = false;
 }
 
 }  // namespace cutwork::cli

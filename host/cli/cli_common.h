@@ -8,6 +8,9 @@
 
 #include "host/core/timer.h"
 #include "host/scene/scene.h"
+#include "host/stencil/fill_ratio.h"
+#include "host/vulkan/backend.h"
+#include "solvers/optimize/pattern_phase.h"
 
 namespace CLI {
 class App;
@@ -35,5 +38,36 @@ nlohmann::json timings_json(const Timings& timings);
 
 /// Prints a progress/notice line to stderr unless quiet.
 void say(const RunOptions& opts, const std::string& line);
+
+/// Adds `--device cpu|vulkan|auto` (stored in `device`).
+void add_device_option(CLI::App& cmd, std::string& device);
+
+/// What `--device` resolved to: the fill-ratio backend and report.json's `device` object.
+struct DeviceChoice {
+  ComputeBackend backend;
+  FillRatioOptions fill;
+  nlohmann::json report;  ///< {kind, name, driver}
+};
+/// Resolves `--device` (see host/vulkan/backend.h). `auto` without a usable Vulkan device warns
+/// once on stderr (even with --quiet: it changes what runs) and uses the CPU; `vulkan` without
+/// one throws DeviceError.
+DeviceChoice choose_device(const std::string& device, const RunOptions& opts);
+
+/// The live progress display of a pipeline: one line on the terminal, rewritten in place
+/// (phase, iteration, objective, gradient norm, W_max, elapsed). Silent with --quiet or when
+/// stdout is not a terminal; at most ten updates a second.
+class ProgressLine {
+ public:
+  explicit ProgressLine(const RunOptions& opts);
+  ~ProgressLine();
+  void update(const std::string& phase, const PatternProgress& p);
+  /// Ends the line (idempotent).
+  void finish();
+
+ private:
+  bool m_active = false;
+  bool m_dirty = false;
+  Stopwatch m_clock, m_since_draw;
+};
 
 }  // namespace cutwork::cli

@@ -7,6 +7,7 @@
 #include "host/cli/commands.h"
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
+#include "solvers/shell/shell_model.h"
 
 namespace cutwork::cli {
 
@@ -69,15 +70,18 @@ void add_check_command(CLI::App& app) {
   cmd->callback([what] {
     std::string notice;
     const Scene scene = load_scene(*what, &notice);
-    if (!notice.empty()) std::cout << "note: " << notice << "\n";
     const SceneMeshes meshes = build_scene_meshes(scene);
+    const LoadCase lc = resolve_load_case(scene, meshes.sim);
+    // Everything a simulation checks before it starts (supports that hold every part, loads that
+    // are finite and not zero) is checked here, before anything is printed.
+    const solvers::ShellModel model(meshes.sim, scene.material, lc);
+    if (!notice.empty()) std::cout << "note: " << notice << "\n";
     std::cout << "scene " << scene.name << (scene.description.empty() ? "" : ": " + scene.description) << "\n";
     print_mesh("base mesh", meshes.base);
     if (meshes.sim_is_base)
       std::cout << "simulation mesh: the base mesh\n";
     else
       print_mesh("simulation mesh", meshes.sim);
-    const LoadCase lc = resolve_load_case(scene, meshes.sim);
     int fixed = 0, clamped = 0;
     for (size_t v = 0; v < lc.fixed.size(); ++v) {
       fixed += lc.fixed[v];

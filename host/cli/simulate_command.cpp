@@ -15,6 +15,7 @@
 #include "host/core/error.h"
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
+#include "host/pattern/stencils_json.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
 
@@ -25,14 +26,37 @@ namespace {
 struct SimulateOptions {
   RunOptions run;
   std::string stencils;
+  std::string device = "auto";
 };
 
+/// Fill ratios of a design's stencils.json on the simulation mesh (the scene supplies the shapes
+/// and the orientation field the stencils' angles are measured from).
+Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshes, const std::string& file,
+                                    const FillRatioOptions& fill, int* count) {
+  const PatternContext ctx(scene, meshes);
+  const StencilsFile sf = read_stencils_json(file, ctx.shapes());
+  *count = int(sf.stencils.size());
+  if (sf.stencils.empty()) return Eigen::VectorXd::Ones(meshes.sim.num_faces());
+  FillRatioOptions o = fill;
+  o.derivatives = false;
+  const FaceBvh sim_bvh(meshes.sim);
+  FillRatioEvaluator eval(ctx.surface().bvh(), sim_bvh, ctx.shapes(), &ctx.surface().field(), o);
+  eval.evaluate(sf.stencils);
+  // The angles are relative to the field's tangent: the scene must give the same field.
+  for (size_t i = 0; i < sf.stencils.size(); ++i) {
+    const Vec3 stored = sf.axis_x.row(Eigen::Index(i)).transpose();
+    if (stored.squaredNorm() == 0) continue;
+    const auto& cs = eval.clip_stencils()[i];
+    const Vec3 axis(cs.axis_x[0], cs.axis_x[1], cs.axis_x[2]);
+    if ((axis - stored).norm() > 1e-6)
+      throw InputError(fmt::format("{}: /stencils/{}/axis_x: the stencil's axis differs from the one the scene's "
+                                   "orientation field gives ({:.3g} apart): this file was made with another scene",
+                                   file, i, (axis - stored).norm()));
+  }
+  return eval.alpha();
+}
+
 void run_simulate(const SimulateOptions& opts) {
-  if (!opts.stencils.empty())
-    throw InputError("--stencils " + opts.stencils +
-                     ": simulating a stenciled design is not supported yet (it needs the stencils.json "
-                     "format of the pattern-synthesis issue); run without --stencils to simulate the uncut "
-                     "shell");
   auto threads = limit_threads(opts.run.threads);
   Timings timings;
   Stopwatch total;
@@ -61,8 +85,17 @@ void run_simulate(const SimulateOptions& opts) {
   solvers::EquilibriumSolver solver(model, settings);
   timings.add("analysis", solver.analysis_seconds());
 
-  // The uncut shell: every triangle full. (A design's stencils set α < 1 once --stencils lands.)
-  const Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
+  // The uncut shell (every triangle full), or a design's stencils.
+  Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
+  int stencil_count = 0;
+  nlohmann::json device_report = nullptr;
+  if (!opts.stencils.empty()) {
+    sw.restart();
+    const DeviceChoice device = choose_device(opts.device, opts.run);
+    device_report = device.report;
+    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count);
+    timings.add("fill_ratios", sw.seconds());
+  }
   sw.restart();
   const solvers::EquilibriumStats& stats = solver.solve(alpha);
   timings.add("equilibrium", sw.seconds());
@@ -76,7 +109,14 @@ void run_simulate(const SimulateOptions& opts) {
   timings.add("quantities", sw.seconds());
   timings.add("total", total.seconds());
 
+  if (!stats.stable)
+    throw SolveError(fmt::format(
+        "the shell's equilibrium under these loads is unstable (it buckles: the stiffness at equilibrium is not "
+        "positive definite after {} Newton iterations); lower the loads or stiffen the shell",
+        stats.newton_iterations));
+
   nlohmann::json report = base_report(scene, meshes, timings);
+  if (!device_report.is_null()) report["device"] = device_report;
   report["equilibrium"] = {
       {"max_displacement", summary.max_displacement},
       {"max_displacement_vertex", summary.max_displacement_vertex},
@@ -116,7 +156,12 @@ void run_simulate(const SimulateOptions& opts) {
                       {"ordering", chol.ordering()},
                       {"supernodal", chol.supernodal()},
                       {"assembly_colours", model.assembly().colours().size()}};
-  report["fill_ratio"] = {{"source", "uncut"}, {"min", alpha.minCoeff()}, {"mean", alpha.mean()}};
+  const Eigen::VectorXd& A = meshes.sim.face_areas();
+  report["fill_ratio"] = {{"source", opts.stencils.empty() ? std::string("uncut") : opts.stencils},
+                          {"stencils", stencil_count},
+                          {"min", alpha.minCoeff()},
+                          {"mean", alpha.mean()},
+                          {"material_fraction", alpha.dot(A) / A.sum()}};
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
   const RowMatX3d u = solver.displacements();
@@ -128,6 +173,7 @@ void run_simulate(const SimulateOptions& opts) {
   }
 
   // Everything is computed before anything is written: a failed run leaves no partial output.
+  // report.json goes last: its presence says the run completed.
   const std::filesystem::path out(opts.run.out);
   ensure_directory(out);
   write_ply_with_face_fields(out / "fields.ply", meshes.sim,
@@ -153,7 +199,9 @@ void add_simulate_command(CLI::App& app) {
   auto opts = std::make_shared<SimulateOptions>();
   add_run_options(*cmd, opts->run, "plate");
   cmd->add_option("--stencils", opts->stencils,
-                  "a design's stencils.json: simulate the stenciled shell (fill ratios) instead of the uncut one");
+                  "a design's stencils.json (from `cutwork design` on the same scene): simulate the stenciled "
+                  "shell (fill ratios) instead of the uncut one");
+  add_device_option(*cmd, opts->device);
   cmd->callback([opts] { run_simulate(*opts); });
 }
 

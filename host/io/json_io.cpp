@@ -15,9 +15,10 @@ nlohmann::json read_json_file(const std::filesystem::path& path) {
   ss << in.rdbuf();
   try {
     return nlohmann::json::parse(ss.str());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for a number beyond a double (1e400). nlohmann's messages
+    // start with "[json.exception.parse_error.101] "; keep the useful part.
     std::string msg = e.what();
-    // nlohmann's messages start with "[json.exception.parse_error.101] "; keep the useful part.
     if (auto p = msg.find("] "); p != std::string::npos) msg = msg.substr(p + 2);
     throw InputError(path.string() + ": invalid JSON: " + msg);
   }

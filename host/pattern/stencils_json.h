@@ -27,4 +27,18 @@ nlohmann::json stencils_to_json(const StencilLayout& layout, const PatternSurfac
 void write_stencils_json(const std::filesystem::path& path, const StencilLayout& layout,
                          const PatternSurface& surface, const StencilLibrary& shapes);
 
+/// A design's stencils read back: parameters with `shapes`' type ids (matched by name) and the
+/// stored axis_x of each stencil (#S×3; zero rows where the file has none).
+struct StencilsFile {
+  std::vector<StencilParams> stencils;
+  RowMatX3d axis_x;
+};
+
+/// Reads stencils.json strictly (the format above; normal, tangent and bounding_radius are
+/// accepted and ignored). Throws InputError naming the file and JSON path for an unreadable
+/// file, an unknown key, a stencil type that is not among `shapes`, a shape whose polygon
+/// differs from the scene's shape of that name, a non-finite position or angle, or a scale
+/// that is not > 0.
+StencilsFile read_stencils_json(const std::filesystem::path& path, const StencilLibrary& shapes);
+
 }  // namespace cutwork

@@ -314,6 +314,7 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
     o.max_iterations = s.integer("max_iterations", d.max_iterations, 0, 1'000'000);
     o.max_rounds = s.integer("max_rounds", d.max_rounds, 1, 1000);
     o.fill_holes = s.boolean("fill_holes", d.fill_holes);
+    o.max_rotation = s.number("max_rotation", d.max_rotation, 0, 180);
     s.finish();
   }
 
@@ -395,7 +396,8 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                     {"adaptive_y", st.adaptive_y},
                     {"max_iterations", st.max_iterations},
                     {"max_rounds", st.max_rounds},
-                    {"fill_holes", st.fill_holes}};
+                    {"fill_holes", st.fill_holes},
+                    {"max_rotation", st.max_rotation}};
   return j;
 }
 
@@ -415,24 +417,30 @@ Scene load_scene(const std::string& what, std::string* notice) {
   }
   if (fs::is_directory(path, ec)) throw InputError(what + ": is a directory, expected a scene or mesh file");
   if (is_mesh_file(path)) {
-    // A plain mesh: self-weight, lowest vertices pinned, the default pattern.
+    // A plain mesh: self-weight, lowest vertices pinned, the default pattern. A mesh that is
+    // flat in z (every vertex would be "lowest") is pinned along its boundary instead, like a
+    // sheet resting on a frame.
     SurfaceMesh mesh = read_mesh(path);
     const double zmin = mesh.bbox_min()[2];
     const double extent = (mesh.bbox_max() - mesh.bbox_min()).norm();
+    const bool flat = mesh.bbox_max()[2] - zmin <= 0.01 * extent;
+    const bool boundary = flat && !mesh.boundary_loops().empty();
+    json select = boundary ? json{{"entity", "boundary_vertices"}}
+                           : json{{"entity", "vertices"}, {"z", {{"below", zmin + 0.01 * extent}}}};
     json doc = {{"name", path.stem().string()},
                 {"description", "mesh file with default supports and loads"},
                 {"mesh", {{"file", fs::absolute(path).string()}}},
-                {"supports", json::array({{{"type", "pinned"},
-                                           {"select", {{"entity", "vertices"},
-                                                       {"z", {{"below", zmin + 0.01 * extent}}}}}}})},
+                {"supports", json::array({{{"type", "pinned"}, {"select", select}}})},
                 {"loads", json::array({{{"type", "self_weight"}}})},
                 {"stencils", json::array({{{"name", "circle"}, {"kind", "circle"}}})}};
     Scene s = parse_scene(doc, path.string());
     s.from_plain_mesh = true;
     s.source = path;
     if (notice)
-      *notice = path.string() + ": a plain mesh; using defaults: self-weight, vertices with z below " +
-                format_number(zmin + 0.01 * extent) + " pinned, circle stencils";
+      *notice = path.string() + ": a plain mesh; using defaults: self-weight, " +
+                (boundary ? std::string("a flat mesh, its boundary vertices")
+                          : "vertices with z below " + format_number(zmin + 0.01 * extent)) +
+                " pinned, circle stencils";
     return s;
   }
   if (path.extension() != ".json")

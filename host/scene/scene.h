@@ -116,6 +116,8 @@ struct StructureSettings {
   int max_iterations = 200;
   int max_rounds = 10;                  ///< adaptive β updates / type-vote rounds
   bool fill_holes = false;              ///< §6.3 hole filling between rounds
+  double max_rotation = 15.0;           ///< how far (degrees) the structure may turn a stencil
+                                        ///< away from the orientation field's direction
 };
 
 struct Scene {

@@ -2,21 +2,84 @@
 
 #include <tbb/parallel_for.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "host/core/error.h"
+#include "host/vulkan/backend.h"
+
+#if CUTWORK_WITH_VULKAN
+#include "host/vulkan/clip_fill_vk.h"
+#endif
 
 namespace cutwork {
 
 static_assert(sizeof(int) == sizeof(int32_t), "faces are passed to the kernels as int32");
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
 const char* to_string(FillBackend backend) {
   switch (backend) {
     case FillBackend::Reference: return "reference";
     case FillBackend::Tbb: return "tbb";
+    case FillBackend::Vulkan: return "vulkan";
   }
   return "?";
 }
+
+FillRatioOptions FillRatioOptions::for_backend(const ComputeBackend& backend) {
+  FillRatioOptions o;
+  if (backend.kind == ComputeBackend::Kind::Vulkan) {
+    if (backend.context == nullptr)
+      throw InputError("fill ratios: the Vulkan compute backend has no context");
+    o.backend = FillBackend::Vulkan;
+    o.vulkan_context = backend.context;
+  } else {
+    o.backend = FillBackend::Tbb;
+  }
+  return o;
+}
+
+std::optional<double> FillRatioReport::device_ms() const {
+  if (dispatches.empty()) return std::nullopt;
+  double sum = 0;
+  for (const Dispatch& d : dispatches) {
+    if (!d.device_ms) return std::nullopt;
+    sum += *d.device_ms;
+  }
+  return sum;
+}
+
+#if CUTWORK_WITH_VULKAN
+/// One ClipFillVk for the evaluator's life: its buffers persist across evaluations, so each
+/// one uploads only what changed.
+struct FillRatioEvaluator::Device {
+  explicit Device(std::shared_ptr<vulkan::Context> context) : clip_fill(std::move(context)) {}
+  vulkan::ClipFillVk clip_fill;
+  /// The device still holds the pairs and dα/dp of the last evaluate() (pullback_last may run).
+  bool holds_last_evaluation = false;
+
+  /// Copies the device's report of its last call into `report`.
+  void copy_report(FillRatioReport& report) const {
+    const vulkan::BatchReport& b = clip_fill.last_report();
+    report.dispatches.clear();
+    for (const auto& d : b.dispatches) report.dispatches.push_back({d.kernel, d.items, d.device_ms});
+    report.uploads = b.uploads;
+    report.upload_bytes = b.upload_bytes;
+    report.download_bytes = b.download_bytes;
+  }
+};
+#else
+struct FillRatioEvaluator::Device {};
+#endif
 
 FillRatioEvaluator::FillRatioEvaluator(const FaceBvh& surface, const FaceBvh& sim,
                                        const StencilLibrary& shapes, const TangentField* field,
@@ -32,6 +95,19 @@ FillRatioEvaluator::FillRatioEvaluator(const FaceBvh& surface, const FaceBvh& si
   if (shapes.size() == 0) throw InputError("fill ratios: no stencil shapes");
   if (!(options.min_fill > 0 && options.min_fill < 1))
     throw InputError("fill ratios: min_fill must lie in (0, 1)");
+  if (options.backend == FillBackend::Vulkan) {
+#if CUTWORK_WITH_VULKAN
+    if (options.vulkan_context == nullptr)
+      throw InputError(
+          "fill ratios: the Vulkan backend needs FillRatioOptions::vulkan_context (see "
+          "select_compute_backend and FillRatioOptions::for_backend)");
+    m_device = std::make_unique<Device>(options.vulkan_context);
+#else
+    throw DeviceError(
+        "fill ratios: this cutwork was built without Vulkan (CUTWORK_WITH_VULKAN=OFF); use the "
+        "TBB backend (--device cpu)");
+#endif
+  }
   if (m_field == nullptr) {
     m_own_field = std::make_unique<AxisTangentField>();
     m_field = m_own_field.get();
@@ -58,6 +134,9 @@ void FillRatioEvaluator::evaluate(std::span<const StencilParams> stencils) {
       throw InputError(who + "type " + std::to_string(p.type) + " is not in [0, " +
                        std::to_string(m_shapes->size()) + ")");
   }
+  const Clock::time_point start = Clock::now();
+  m_report = FillRatioReport{};
+  m_report.call = "evaluate";
   m_num_stencils = n;
   m_frames.resize(size_t(n));
   m_clip_stencils.resize(size_t(n));
@@ -77,37 +156,103 @@ void FillRatioEvaluator::evaluate(std::span<const StencilParams> stencils) {
   } else {
     tbb::parallel_for(0, n, frame_of);
   }
+  m_report.frames_ms = ms_since(start);
 
+  const Clock::time_point broad_start = Clock::now();
   m_requeried = m_broad.update(m_centers, m_scales);
+  m_report.broad_phase_ms = ms_since(broad_start);
 
+  const Clock::time_point kernels_start = Clock::now();
+  const kernels::ClipInputs in = clip_inputs();
+  m_alpha.resize(m_sim->mesh()->num_faces());
+  m_d_alpha.resize(derivatives ? 5 * in.pairs.size() : 0);
+  if (m_device) {
+    evaluate_on_device(in);
+  } else {
+    kernels::ClipOptions clip_options;
+    clip_options.derivatives = derivatives ? 1 : 0;
+    m_overlaps.resize(in.pairs.size());
+    m_overlaps_current = true;
+    kernels::FillParams fill_params;
+    fill_params.min_fill = m_options.min_fill;
+    fill_params.derivatives = derivatives ? 1 : 0;
+    const kernels::FillInputs fill_in{m_overlaps, m_broad.face_offsets()};
+    const kernels::FillOutputs fill_out{std::span<double>(m_alpha.data(), size_t(m_alpha.size())),
+                                        m_d_alpha};
+    if (m_options.backend == FillBackend::Reference) {
+      kernels::clip_ref(in, clip_options, m_overlaps, m_workspace);
+      kernels::fill_ref(fill_in, fill_params, fill_out);
+    } else {
+      kernels::clip_tbb(in, clip_options, m_overlaps, m_workspace);
+      kernels::fill_tbb(fill_in, fill_params, fill_out);
+    }
+  }
+  m_report.kernels_ms = ms_since(kernels_start);
+  m_report.total_ms = ms_since(start);
+}
+
+kernels::ClipInputs FillRatioEvaluator::clip_inputs() const {
   const SurfaceMesh& sim = *m_sim->mesh();
-  const auto& pairs = m_broad.pairs();
   kernels::ClipInputs in;
   in.vertices = std::span<const double>(sim.vertices().data(), size_t(sim.vertices().size()));
   in.faces = std::span<const int32_t>(sim.faces().data(), size_t(sim.faces().size()));
   in.shapes = m_shapes->clip_shapes();
   in.polygons = m_shapes->packed_polygons();
   in.stencils = m_clip_stencils;
-  in.pairs = pairs;
+  in.pairs = m_broad.pairs();
+  return in;
+}
+
+#if CUTWORK_WITH_VULKAN
+
+void FillRatioEvaluator::evaluate_on_device(const kernels::ClipInputs& in) {
+  const bool derivatives = m_options.derivatives;
   kernels::ClipOptions clip_options;
   clip_options.derivatives = derivatives ? 1 : 0;
-  m_overlaps.resize(pairs.size());
   kernels::FillParams fill_params;
   fill_params.min_fill = m_options.min_fill;
   fill_params.derivatives = derivatives ? 1 : 0;
-  m_alpha.resize(sim.num_faces());
-  m_d_alpha.resize(derivatives ? 5 * pairs.size() : 0);
-  const kernels::FillInputs fill_in{m_overlaps, m_broad.face_offsets()};
-  const kernels::FillOutputs fill_out{std::span<double>(m_alpha.data(), size_t(m_alpha.size())),
-                                      m_d_alpha};
-  if (m_options.backend == FillBackend::Reference) {
-    kernels::clip_ref(in, clip_options, m_overlaps, m_workspace);
-    kernels::fill_ref(fill_in, fill_params, fill_out);
-  } else {
-    kernels::clip_tbb(in, clip_options, m_overlaps, m_workspace);
-    kernels::fill_tbb(fill_in, fill_params, fill_out);
-  }
+  const bool download = m_options.download_overlaps;
+  m_overlaps.resize(download ? in.pairs.size() : 0);
+  m_device->holds_last_evaluation = false;  // until the submission below succeeds
+  m_overlaps_current = false;
+  m_device->clip_fill.evaluate(
+      in, clip_options, m_broad.face_offsets(), fill_params,
+      download ? std::span<kernels::ClipResult>(m_overlaps) : std::span<kernels::ClipResult>(),
+      {std::span<double>(m_alpha.data(), size_t(m_alpha.size())), m_d_alpha});
+  m_device->holds_last_evaluation = derivatives;
+  m_overlaps_current = download;
+  m_device->copy_report(m_report);
 }
+
+const std::vector<kernels::ClipResult>& FillRatioEvaluator::overlaps() const {
+  if (m_overlaps_current) return m_overlaps;
+  // The clip results of the last evaluation stayed on the device: the same kernel on the same
+  // (unchanged, so not re-uploaded) inputs computes the same bits again.
+  const Clock::time_point start = Clock::now();
+  const kernels::ClipInputs in = clip_inputs();
+  kernels::ClipOptions clip_options;
+  clip_options.derivatives = m_options.derivatives ? 1 : 0;
+  m_overlaps.resize(in.pairs.size());
+  m_device->holds_last_evaluation = false;  // clip() overwrites the device's last evaluation
+  m_device->clip_fill.clip(in, clip_options, m_overlaps);
+  m_overlaps_current = true;
+  m_report = FillRatioReport{};
+  m_report.call = "overlaps";
+  m_device->copy_report(m_report);
+  m_report.kernels_ms = m_report.total_ms = ms_since(start);
+  return m_overlaps;
+}
+
+#else
+
+void FillRatioEvaluator::evaluate_on_device(const kernels::ClipInputs&) {
+  throw DeviceError("fill ratios: this cutwork was built without Vulkan");
+}
+
+const std::vector<kernels::ClipResult>& FillRatioEvaluator::overlaps() const { return m_overlaps; }
+
+#endif
 
 void FillRatioEvaluator::pullback(const Eigen::VectorXd& d_objective_d_alpha,
                                   Eigen::VectorXd& d_objective_d_params) const {
@@ -116,15 +261,28 @@ void FillRatioEvaluator::pullback(const Eigen::VectorXd& d_objective_d_alpha,
   if (d_objective_d_alpha.size() != m_alpha.size())
     throw InputError("fill ratios: the gradient has " + std::to_string(d_objective_d_alpha.size()) +
                      " entries for " + std::to_string(m_alpha.size()) + " faces");
+  const Clock::time_point start = Clock::now();
+  m_report = FillRatioReport{};
+  m_report.call = "pullback";
   d_objective_d_params.resize(5 * m_num_stencils);
   const kernels::FillPullbackInputs in{m_broad.pairs(), m_d_alpha, m_broad.stencil_pairs(),
                                        m_broad.stencil_offsets()};
   const std::span<const double> g(d_objective_d_alpha.data(), size_t(d_objective_d_alpha.size()));
   const std::span<double> out(d_objective_d_params.data(), size_t(d_objective_d_params.size()));
-  if (m_options.backend == FillBackend::Reference)
+  if (m_options.backend == FillBackend::Reference) {
     kernels::fill_pullback_ref(in, g, out);
-  else
-    kernels::fill_pullback_tbb(in, g, out);
+  } else if (!m_device || in.pairs.empty()) {
+    kernels::fill_pullback_tbb(in, g, out);  // (no pairs: zeros, nothing worth a submission)
+  } else {
+#if CUTWORK_WITH_VULKAN
+    if (m_device->holds_last_evaluation)
+      m_device->clip_fill.pullback_last(in.stencil_pairs, in.stencil_offsets, g, out);
+    else  // overlaps() re-ran the clip since: upload the pairs and dα/dp again
+      m_device->clip_fill.pullback(in, g, out);
+    m_device->copy_report(m_report);
+#endif
+  }
+  m_report.kernels_ms = m_report.total_ms = ms_since(start);
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> FillRatioEvaluator::jacobian() const {

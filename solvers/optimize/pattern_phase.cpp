@@ -203,6 +203,38 @@ bool same_matching(const std::vector<DetNeighborhood>& a, const std::vector<DetN
 
 }  // namespace
 
+double joint_objective(const PatternEnergy& energy, JointTerm* joint, double w_P, std::vector<StencilParams>& params,
+                       const Eigen::VectorXi& types, Eigen::VectorXd* gradient) {
+  if (joint) joint->restore(params);
+  const int S = int(params.size());
+  RowMatX3d q(S, 3);
+  Eigen::VectorXd s(S);
+  for (int i = 0; i < S; ++i) {
+    q.row(i) = params[size_t(i)].position.transpose();
+    s[i] = params[size_t(i)].scale;
+  }
+  RowMatX3d dq;
+  Eigen::VectorXd ds;
+  const bool g = gradient != nullptr;
+  double v = w_P * energy.evaluate(q, s, types, g ? &dq : nullptr, g ? &ds : nullptr);
+  if (joint) {
+    v += joint->evaluate(params, gradient);
+  } else if (g) {
+    gradient->setZero(5 * S);
+  }
+  if (!g) return v;
+  if (!std::isfinite(v)) {
+    gradient->setConstant(5 * S, std::nan(""));
+    return v;
+  }
+  for (int i = 0; i < S; ++i) {
+    gradient->segment<3>(5 * i) += w_P * dq.row(i).transpose();
+    (*gradient)[5 * i + 3] += w_P * ds[i];
+  }
+  if (joint) joint->restore_pullback(*gradient);
+  return v;
+}
+
 void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternPhaseOptions& options,
                       PatternPhaseResult& result) {
   Stopwatch clock;
@@ -212,37 +244,60 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
   const double unit = ctx.unit();
   PatternEnergy& energy = ctx.energy();
   const PatternSurface& surface = ctx.surface();
+  JointTerm* joint = options.joint;
+  const double w_P = joint ? options.w_P : 1.0;
+  // Variables per stencil, x = (q/ℓ, s/ℓ[, φ]): positions first (#S×3), then scales, then the
+  // angles when the joint term sees them (P does not depend on φ).
+  const int dofs = joint ? 5 : 4;
 
   Eigen::VectorXd lower, upper;
   ctx.scale_bounds(layout, lower, upper);
+  Eigen::VectorXd angle0(Eigen::Index(layout.size()));
+  for (size_t i = 0; i < layout.size(); ++i) angle0[Eigen::Index(i)] = layout[i].angle;
   std::vector<DetNeighborhood> previous;
   int used = 0;
   bool stopped_by_callback = false;
   bool matched = false;  // the neighbourhoods of the current layout are frozen in `energy`
   result.stop_reason = budget == 0 ? "iterations" : "";
+  std::vector<StencilParams> params;
+  Eigen::VectorXd g_params;
   while (used < budget && !layout.empty() && !stopped_by_callback) {
     if (!matched) energy.rematch(layout);
     matched = false;
     const int S = int(layout.size());
     const Eigen::VectorXi types = layout_types(layout);
-    Eigen::VectorXd x0(4 * S), lb(4 * S), ub(4 * S);
+    Eigen::VectorXd x0(dofs * S), lb(dofs * S), ub(dofs * S);
     for (int i = 0; i < S; ++i) {
       x0.segment<3>(3 * i) = layout[size_t(i)].position / unit;
       x0[3 * S + i] = layout[size_t(i)].scale / unit;
+      if (joint) x0[4 * S + i] = layout[size_t(i)].angle;
     }
     lb.head(3 * S).setConstant(-INFINITY);
     ub.head(3 * S).setConstant(INFINITY);
-    lb.tail(S) = lower / unit;
-    ub.tail(S) = upper / unit;
+    lb.segment(3 * S, S) = lower / unit;
+    ub.segment(3 * S, S) = upper / unit;
+    if (joint) {
+      lb.tail(S) = angle0.head(S).array() - options.max_rotation;
+      ub.tail(S) = angle0.head(S).array() + options.max_rotation;
+    }
+    // x → stencil parameters (restored onto the joint term's constraint).
+    auto unpack = [&](const Eigen::VectorXd& x) {
+      params.resize(size_t(S));
+      for (int i = 0; i < S; ++i)
+        params[size_t(i)] = {x.segment<3>(3 * i) * unit, x[3 * S + i] * unit,
+                             joint ? x[4 * S + i] : layout[size_t(i)].angle, types[i]};
+    };
+    double last_gradient_norm = 0;
     auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
-      const RowMatX3d q = Eigen::Map<const RowMatX3d>(x.data(), S, 3) * unit;
-      const Eigen::VectorXd s = x.tail(S) * unit;
-      RowMatX3d dq;
-      Eigen::VectorXd ds;
-      const double v = energy.evaluate(q, s, types, &dq, &ds);
+      unpack(x);
+      const double v = joint_objective(energy, joint, w_P, params, types, &g_params);
       g.resize(x.size());
-      Eigen::Map<RowMatX3d>(g.data(), S, 3) = dq * unit;
-      g.tail(S) = ds * unit;
+      for (int i = 0; i < S; ++i) {
+        g.segment<3>(3 * i) = g_params.segment<3>(5 * i) * unit;
+        g[3 * S + i] = g_params[5 * i + 3] * unit;
+        if (joint) g[4 * S + i] = g_params[5 * i + 4];
+      }
+      last_gradient_norm = g.norm();
       return v;
     };
     LbfgsbOptions lo;
@@ -250,7 +305,11 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
     const int round = result.rounds;
     auto cb = [&](int it, const Eigen::VectorXd&, double fx) {
       if (!options.progress) return true;
-      PatternProgress p{"optimise", round, used + it, fx, S, clock.seconds()};
+      PatternProgress p{"optimise", round, used + it, fx, S, clock.seconds(), last_gradient_norm};
+      if (joint) {
+        p.structure = joint->last_structure();
+        p.W_max = joint->last_W_max();
+      }
       if (!options.progress(p)) {
         stopped_by_callback = true;
         return false;
@@ -263,13 +322,19 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
     used += std::max(1, res.iterations);
     result.iterations += res.iterations;
     result.evaluations += res.evaluations;
+    result.round_histories.push_back(res.history);
     ++result.rounds;
     result.stop_reason = res.stop_reason;
+    unpack(res.x);
+    if (joint) joint->restore(params);
     for (int i = 0; i < S; ++i) {
-      const ClosestPoint cp = surface.project(res.x.segment<3>(3 * i) * unit);
-      layout[size_t(i)].position = cp.point;
-      layout[size_t(i)].where = cp.where;
-      layout[size_t(i)].scale = std::clamp(res.x[3 * S + i] * unit, lower[i], upper[i]);
+      const ClosestPoint cp = surface.project(params[size_t(i)].position);
+      PlacedStencil& st = layout[size_t(i)];
+      st.position = cp.point;
+      st.where = cp.where;
+      // L-BFGS-B keeps x inside the bounds; a restoration may scale past them (by design).
+      st.scale = joint ? params[size_t(i)].scale : std::clamp(params[size_t(i)].scale, lower[i], upper[i]);
+      st.angle = params[size_t(i)].angle;
     }
     bool settled = res.converged;
     if (exemplar) {
@@ -287,6 +352,7 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
 
   // The lower bounds of the run (taken at the stencils' start) are the floor of the shrinking.
   result.removed += resolve_overlaps(surface, layout, ctx.settings().s, lower);
+  if (joint) joint->finalize(surface, ctx.settings().s, layout);
   result.seconds_optimize += clock.seconds();
 }
 

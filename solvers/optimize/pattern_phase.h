@@ -17,7 +17,9 @@
 ///  - Scale bounds: packing [scale_min, scale_max] × ℓ × sizing at the stencil's start;
 ///    exemplar [scale_min × smallest, scale_max × largest] exemplar scale × σ_0 × sizing.
 ///  - The field symmetry N: pattern.symmetry, or field_symmetry_for(shapes, exemplar).
+#include <cmath>
 #include <functional>
+#include <span>
 #include <memory>
 #include <optional>
 #include <string>
@@ -27,6 +29,7 @@
 #include "host/pattern/pattern_energy.h"
 #include "host/pattern/pattern_surface.h"
 #include "host/scene/scene.h"
+#include "host/stencil/frame.h"
 #include "host/stencil/stencil_shape.h"
 #include "solvers/optimize/lbfgsb.h"
 
@@ -78,14 +81,51 @@ class PatternContext {
   std::vector<std::string> m_notes;
 };
 
-/// Live progress of the phase (a callback may show it; returning false stops the optimiser).
+/// A term the joint optimiser adds to w_P·P in (19): the structural part w_S·S(p), evaluated at
+/// every point the optimiser visits (solvers/optimize/structure_phase.h implements it). A
+/// constraint on p (compliance: constant total stencil area) is restored before anything is
+/// evaluated, so the optimiser minimises J(R(p)) and every value it sees is admissible.
+class JointTerm {
+ public:
+  virtual ~JointTerm() = default;
+  /// Maps the optimiser's parameters onto the constraint, in place (default: none).
+  virtual void restore(std::vector<StencilParams>& params) { (void)params; }
+  /// Chain rule through the last restore(): a gradient (#S×5) at the restored parameters becomes
+  /// the gradient at the parameters restore() was given, in place.
+  virtual void restore_pullback(Eigen::VectorXd& gradient) const { (void)gradient; }
+  /// w_S·S at `params` (already restored) and, when `gradient` is not null, its gradient
+  /// (#S×5, (q, s, φ) per stencil), written. +inf where S cannot be evaluated (no stable
+  /// equilibrium): the line search then backs off.
+  virtual double evaluate(std::span<const StencilParams> params, Eigen::VectorXd* gradient) = 0;
+  /// After the optimisation and the overlap resolution (which shrinks stencils and may break the
+  /// constraint): make `layout` admissible and restored at once (default: nothing to do).
+  virtual void finalize(const PatternSurface& surface, double safety, StencilLayout& layout) {
+    (void)surface, (void)safety, (void)layout;
+  }
+  /// S (unweighted) and W_max (J/m²) of the last successful evaluation, for progress displays.
+  virtual double last_structure() const = 0;
+  virtual double last_W_max() const = 0;
+};
+
+/// The optimiser's objective at `params` (#S, restored onto the joint term's constraint in
+/// place first): w_P·P + joint, or P alone when `joint` is null; `gradient` (#S×5, (q, s, φ) per
+/// stencil, w.r.t. the parameters before restoration) is written when not null — its φ entries
+/// are zero without a joint term. The pattern energy's current matching is used (frozen).
+/// Non-finite values come with a NaN gradient.
+double joint_objective(const PatternEnergy& energy, JointTerm* joint, double w_P, std::vector<StencilParams>& params,
+                       const Eigen::VectorXi& types, Eigen::VectorXd* gradient);
+
+/// Live progress of a phase (a callback may show it; returning false stops the optimiser).
 struct PatternProgress {
   std::string stage;       ///< "initialise", "optimise"
-  int round = 0;           ///< DET: match/optimise round
+  int round = 0;           ///< match/optimise round (DET), or optimiser run
   int iteration = 0;       ///< accepted L-BFGS-B iterations so far (over rounds)
-  double objective = 0;    ///< P of the current iterate
+  double objective = 0;    ///< the objective of the current iterate: P, or J = w_S S + w_P P
   int stencils = 0;
   double seconds = 0;      ///< since the phase started
+  double gradient_norm = 0;///< ‖∇‖₂ of the objective at the last evaluation (optimiser units)
+  double structure = std::nan("");  ///< S (joint phase only)
+  double W_max = std::nan("");      ///< J/m² (joint phase only)
 };
 
 struct PatternPhaseOptions {
@@ -97,6 +137,12 @@ struct PatternPhaseOptions {
   bool fill_holes = false;
   int max_fill_rounds = 3;
   std::function<bool(const PatternProgress&)> progress;
+  /// The joint optimisation (19): the objective becomes w_P·P + joint (not owned), the angles
+  /// φ join the variables within ±max_rotation (rad) of their start, and the overlap resolution
+  /// at the end is followed by the term's restoration. Null: pattern only.
+  JointTerm* joint = nullptr;
+  double w_P = 1.0;
+  double max_rotation = 0.0;
 };
 
 struct PatternPhaseResult {
@@ -117,6 +163,9 @@ struct PatternPhaseResult {
   int evaluations = 0;             ///< objective evaluations
   int type_changes = 0;            ///< by majority vote
   std::string stop_reason;
+  /// The optimiser's objective after each accepted iterate, one list per round (the first
+  /// value of each is the round's start): monotone within a round by construction.
+  std::vector<std::vector<double>> round_histories;
   double objective_start = 0;      ///< P after initialisation
   double objective_end = 0;        ///< P at the end (after overlap resolution, fresh matching)
   PatternTerms terms_end;

@@ -81,12 +81,28 @@ TEST(Cli, ShowPrintsACompleteSceneThatValidates) {
 
 TEST(Cli, CheckSummarisesAMesh) {
   const fs::path dir = test::temp_dir("check");
-  write_text(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
-  const auto r = run_cutwork("check " + (dir / "quad.obj").string());
+  // A flat 2×2-quad grid: the defaults pin a flat mesh's boundary, leaving the centre free.
+  std::string grid;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) grid += "v " + std::to_string(i) + " " + std::to_string(j) + " 0\n";
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int a = 1 + i + 3 * j, b = a + 1, c = a + 4, d = a + 3;
+      grid += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\nf " +
+              std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+    }
+  write_text(dir / "grid.obj", grid);
+  const auto r = run_cutwork("check " + (dir / "grid.obj").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("4 vertices, 2 faces"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("9 vertices, 8 faces"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Euler characteristic 1"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("a plain mesh; using defaults"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("boundary vertices"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("supports: 8 fixed vertices"), std::string::npos) << r.out;
+  // Two triangles: every vertex is on the boundary, so nothing is left to simulate — `check`
+  // says so (it validates what a simulation needs), one line, exit 2.
+  write_text(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  expect_one_line_error(run_cutwork("check " + (dir / "quad.obj").string()), {"every vertex"});
   fs::remove_all(dir);
 }
 

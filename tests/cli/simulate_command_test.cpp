@@ -94,7 +94,36 @@ TEST(CliSimulate, BadSupportsAndLoadsAreOneLineErrors) {
   expect_failure_without_output("simulate " + scene_file("overload", doc), dir / "out3", "can carry");
 
   expect_failure_without_output("simulate plate --stencils " + (dir / "stencils.json").string(), dir / "out4",
-                                "--stencils");
+                                "stencils.json: cannot open");
+  fs::remove_all(dir);
+}
+
+TEST(CliSimulate, StencilsOfADesignReproduceItsEquilibrium) {
+  // The pattern design of the plate, then its stencils.json simulated on its own: the same fill
+  // ratios, so the same equilibrium as the design's report (Newton-converged, cold vs warm start).
+  const fs::path dir = test::temp_dir("simulate_stencils");
+  const auto d = run_cutwork("design plate --phases pattern --device cpu --out " + (dir / "design").string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const auto design = read_json(dir / "design" / "report.json");
+  const auto s = run_cutwork("simulate plate --device cpu --stencils " + (dir / "design" / "stencils.json").string() +
+                             " --out " + (dir / "sim").string());
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const auto sim = read_json(dir / "sim" / "report.json");
+  EXPECT_EQ(sim["fill_ratio"]["stencils"], design["stencils"]["count"]);
+  const double w_design = design["structure"]["W_max_final"], w_sim = sim["equilibrium"]["W_max"];
+  EXPECT_NEAR(w_sim, w_design, 1e-6 * w_design);
+  const double m_design = design["structure"]["material_fraction_final"];
+  const double m_sim = sim["fill_ratio"]["material_fraction"];
+  EXPECT_NEAR(m_sim, m_design, 1e-12);
+  EXPECT_LT(m_sim, 0.9);
+  EXPECT_EQ(sim["device"]["kind"], "cpu");
+
+  // The same stencils against another scene (other shapes): one line naming the problem.
+  const auto other = run_cutwork("simulate bowl --device cpu --stencils " + (dir / "design" / "stencils.json").string() +
+                                 " --out " + (dir / "bad").string());
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_EQ(count_lines(other.err), 1) << other.err;
+  EXPECT_FALSE(fs::exists(dir / "bad" / "report.json"));
   fs::remove_all(dir);
 }
 

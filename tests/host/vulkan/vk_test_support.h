@@ -3,13 +3,17 @@
 /// (with synchronisation validation) and which FAILS the test on any validation message.
 ///
 /// No usable Vulkan device (no driver, no ICD, no device with shaderFloat64) → the test is skipped,
-/// so machines without Vulkan still pass. Anything else that goes wrong — the validation layer
-/// missing, a device that exists but cannot be opened — is a failure, so CI cannot silently lose
-/// its GPU checks.
+/// so machines without Vulkan still pass — unless CUTWORK_REQUIRE_VULKAN=1 (CI sets it), which
+/// turns that skip into a failure. Anything else that goes wrong — the validation layer missing,
+/// a device that exists but cannot be opened — is always a failure, so CI cannot silently lose
+/// its GPU checks. Tests that do not use the fixture start with CUTWORK_SKIP_WITHOUT_VULKAN().
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <link.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,6 +62,29 @@ inline const std::optional<std::string>& vulkan_unavailable_reason() {
   return reason;
 }
 
+/// CUTWORK_REQUIRE_VULKAN is 1 / true / on / yes: a missing Vulkan device fails the GPU tests
+/// instead of skipping them.
+inline bool vulkan_required() {
+  const char* v = std::getenv("CUTWORK_REQUIRE_VULKAN");
+  if (v == nullptr) return false;
+  std::string s(v);
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return s == "1" || s == "true" || s == "on" || s == "yes";
+}
+
+/// Ends the current test (or SetUp) when no Vulkan device can be opened: GTEST_SKIP, or a
+/// failure under CUTWORK_REQUIRE_VULKAN=1.
+#define CUTWORK_SKIP_WITHOUT_VULKAN()                                                          \
+  do {                                                                                         \
+    if (const auto& cutwork_why = ::cutwork::test::vulkan_unavailable_reason()) {              \
+      if (::cutwork::test::vulkan_required())                                                  \
+        GTEST_FAIL() << "CUTWORK_REQUIRE_VULKAN is set but there is no Vulkan device: "        \
+                     << *cutwork_why;                                                          \
+      GTEST_SKIP() << "no Vulkan device: " << *cutwork_why;                                    \
+    }                                                                                          \
+  } while (false)
+
 /// Options every GPU test starts from: environment device selector, validation on.
 inline vulkan::ContextOptions validated_options() {
   vulkan::ContextOptions o = vulkan::ContextOptions::from_environment();
@@ -75,7 +102,7 @@ class VulkanTest : public ::testing::Test {
   virtual vulkan::ContextOptions options() const { return validated_options(); }
 
   void SetUp() override {
-    if (const auto& why = vulkan_unavailable_reason()) GTEST_SKIP() << "no Vulkan device: " << *why;
+    CUTWORK_SKIP_WITHOUT_VULKAN();
     vulkan::ContextOptions o = options();
     o.validation = true;
     m_ctx = std::make_shared<vulkan::Context>(o);

@@ -498,18 +498,39 @@ TEST(VulkanNoDriverVk, MissingDriverIsADeviceErrorAndAutoFallsBack) {
   EXPECT_EQ(w.rfind("cutwork: warning:", 0), 0u) << w;
 }
 
-TEST(VulkanBackendVk, AutoAndVulkanChooseTheDevice) {
-  if (const auto& why = vulkan_unavailable_reason()) GTEST_SKIP() << "no Vulkan device: " << *why;
+TEST(VulkanRequiredVk, CutworkRequireVulkanIsReadFromTheEnvironment) {
+  {
+    ScopedEnv require("CUTWORK_REQUIRE_VULKAN", "1");
+    EXPECT_TRUE(vulkan_required());
+  }
+  {
+    ScopedEnv require("CUTWORK_REQUIRE_VULKAN", "0");
+    EXPECT_FALSE(vulkan_required());
+  }
+}
+
+// select_compute_backend makes its contexts from the environment, so CUTWORK_VK_VALIDATION=1
+// puts them under the validation layer too, and this test fails on any message from them as
+// the fixture does for its own.
+class VulkanBackendVk : public VulkanTest {};
+
+TEST_F(VulkanBackendVk, AutoAndVulkanChooseTheDevice) {
+  ScopedEnv validation("CUTWORK_VK_VALIDATION", "1");
   std::ostringstream warnings;
   const ComputeBackend b = select_compute_backend(DeviceRequest::Auto, &warnings);
   const ComputeBackend v = select_compute_backend(DeviceRequest::Vulkan, &warnings);
   ASSERT_EQ(v.kind, ComputeBackend::Kind::Vulkan);  // every device here has fp64 (lavapipe does)
-  EXPECT_EQ(b.kind, ComputeBackend::Kind::Vulkan);
+  ASSERT_EQ(b.kind, ComputeBackend::Kind::Vulkan);
   EXPECT_TRUE(warnings.str().empty()) << warnings.str();
   ASSERT_NE(v.context, nullptr);
+  ASSERT_NE(b.context, nullptr);
+  EXPECT_TRUE(v.context->validation_enabled());
+  EXPECT_TRUE(b.context->validation_enabled());
   EXPECT_EQ(v.name, v.context->info().name);
   EXPECT_EQ(v.driver, v.context->info().driver);
   EXPECT_EQ(v.kind_name(), "vulkan");
+  expect_no_validation_messages(*v.context);
+  expect_no_validation_messages(*b.context);
 }
 
 }  // namespace

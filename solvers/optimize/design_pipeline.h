@@ -1,0 +1,62 @@
+#pragma once
+/// The whole design of DESIGN.md's data flow as one library call, for `cutwork design`, the
+/// end-to-end benchmarks and the tests:
+///   uncut shell ─► equilibrium (W_ref = W_max of the uncut shell, the reference of β)
+///   pattern phase (initialisation, pattern-only L-BFGS-B)     ─► the pattern design
+///   structural phase (joint L-BFGS-B, the scene's objective)   ─► the final design
+/// with the equilibrium of each design (fill ratios on the simulation mesh, W, compliance,
+/// material left). The caller writes the outputs; nothing here touches files or JSON.
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "host/core/timer.h"
+#include "host/pattern/overlaps.h"
+#include "host/scene/scene.h"
+#include "solvers/optimize/pattern_phase.h"
+#include "solvers/optimize/stencilled_shell.h"
+#include "solvers/optimize/structure_phase.h"
+
+namespace cutwork::solvers {
+
+struct DesignOptions {
+  bool structure = true;           ///< run the structural phase (when the scene has an objective)
+  FillRatioOptions fill;           ///< kernel backend of the fill ratios
+  int pattern_iterations = -1;     ///< −1: the scene's pattern.max_iterations
+  int structure_iterations = -1;   ///< −1: the scene's structure.max_iterations
+  /// Progress of either phase ("pattern", "structure"); return false to stop that phase early.
+  std::function<bool(const std::string& phase, const PatternProgress&)> progress;
+};
+
+/// A design's equilibrium and what the report says of it.
+struct DesignState {
+  int stencils = 0;
+  Eigen::VectorXd alpha;             ///< #F of the simulation mesh
+  EquilibriumSummary summary;        ///< W (#F), W_max, compliance, strain energy, displacement
+  EquilibriumStats stats;
+  double material_fraction = 1;      ///< Σ α A / Σ A
+  OverlapReport overlaps;            ///< against the scene's safety factor s
+};
+
+struct DesignResult {
+  DesignState uncut, pattern_design, final_design;
+  PatternPhaseResult pattern;
+  std::optional<StructurePhaseResult> structure;  ///< when the structural phase ran
+  StencilLayout layout;                           ///< the final stencils (on the base mesh)
+  Timings timings;                                ///< per stage (s)
+  StencilledShell::StageTimes stage_times;        ///< fill / equilibrium / adjoint totals
+};
+
+/// Runs the design of `scene` on `meshes` with supports and loads `load_case` (resolved on the
+/// simulation mesh) and the pattern context `ctx` (built from the same scene and meshes).
+/// Throws InputError / SolveError with a message naming the problem (e.g. a pattern design
+/// that cannot carry the loads).
+DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
+                        PatternContext& ctx, const DesignOptions& options = {});
+
+/// The equilibrium of `layout` on `shell` (set_stencils + equilibrate + summary).
+DesignState evaluate_design(StencilledShell& shell, const PatternContext& ctx, const StencilLayout& layout);
+
+}  // namespace cutwork::solvers

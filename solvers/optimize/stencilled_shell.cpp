@@ -1,0 +1,80 @@
+#include "solvers/optimize/stencilled_shell.h"
+
+#include "host/core/error.h"
+#include "solvers/sensitivity/adjoint.h"
+
+namespace cutwork::solvers {
+
+StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_bvh, const Material& material,
+                                 const LoadCase& load_case, const StencilLibrary& shapes,
+                                 const TangentField& field, FillRatioOptions fill_options, NewtonSettings newton)
+    : m_sim(&sim), m_sim_bvh(sim) {
+  m_model = std::make_unique<ShellModel>(sim, material, load_case);
+  m_solver = std::make_unique<EquilibriumSolver>(*m_model, std::move(newton));
+  m_fill = std::make_unique<FillRatioEvaluator>(surface_bvh, m_sim_bvh, shapes, &field, fill_options);
+  m_alpha = Eigen::VectorXd::Ones(sim.num_faces());
+}
+
+const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilParams> stencils) {
+  m_num_stencils = int(stencils.size());
+  m_derivatives = m_fill->options().derivatives && !stencils.empty();
+  if (stencils.empty()) {
+    m_alpha.setOnes(m_sim->num_faces());
+    return m_alpha;
+  }
+  Stopwatch sw;
+  m_fill->evaluate(stencils);
+  m_alpha = m_fill->alpha();
+  m_times.fill += sw.seconds();
+  ++m_times.fills;
+  return m_alpha;
+}
+
+const EquilibriumStats& StencilledShell::equilibrate() {
+  Stopwatch sw;
+  try {
+    const EquilibriumStats& s = m_solver->solve(m_alpha);
+    m_times.equilibrium += sw.seconds();
+    ++m_times.equilibria;
+    m_times.newton_iterations += s.newton_iterations;
+    return s;
+  } catch (...) {
+    m_times.equilibrium += sw.seconds();
+    throw;
+  }
+}
+
+EquilibriumSummary StencilledShell::summary() const {
+  if (!m_solver->has_solution()) throw SolveError("no equilibrium has been solved for yet");
+  return summarize_equilibrium(*m_model, m_solver->positions(), m_solver->alpha());
+}
+
+void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,
+                                         Eigen::VectorXd* d_alpha) {
+  if (!m_derivatives)
+    throw Error("StencilledShell::parameter_gradient needs fill-ratio derivatives and a stencil");
+  Stopwatch sw;
+  const Sensitivity s = fill_ratio_sensitivity(*m_solver, terms);
+  m_times.adjoint += sw.seconds();
+  ++m_times.adjoints;
+  sw.restart();
+  m_fill->pullback(s.gradient, d_params);
+  m_times.pullback += sw.seconds();
+  if (d_alpha) *d_alpha = s.gradient;
+}
+
+double StencilledShell::covered_area(Eigen::VectorXd* d_params) const {
+  const Eigen::VectorXd& A = m_sim->face_areas();
+  if (d_params) {
+    if (!m_derivatives) throw Error("StencilledShell::covered_area: derivatives were not computed");
+    m_fill->pullback(-A, *d_params);
+  }
+  return A.sum() - A.dot(m_alpha);
+}
+
+double StencilledShell::material_fraction() const {
+  const Eigen::VectorXd& A = m_sim->face_areas();
+  return A.dot(m_alpha) / A.sum();
+}
+
+}  // namespace cutwork::solvers

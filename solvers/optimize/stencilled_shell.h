@@ -1,0 +1,93 @@
+#pragma once
+/// The stenciled shell as a function of the stencil parameters (§5.2–§5.3), the one place that
+/// chains the rooms together for the structural phase, `cutwork simulate --stencils` and the
+/// benchmarks:
+///
+///   p ──► α(p)        fill ratios of the simulation mesh's triangles (FillRatioEvaluator:
+///                     frames on the base surface, broad phase, clip and fill kernels on the
+///                     chosen backend), with the sparse dα/dp
+///     ──► x(α)        static equilibrium (EquilibriumSolver: Newton, warm-started from the
+///                     previous equilibrium, CHOLMOD factor kept for the adjoint)
+///     ──► S(α, x)     any structural objective's terms (solvers/objective)
+///     ──► dS/dp       = (dα/dp)ᵀ dS/dα with dS/dα from the adjoint (13)–(15): one solve with
+///                     the converged factor, then the fill kernel's pull-back.
+///
+/// Every stencil parameter vector is p = (q_x, q_y, q_z, s, φ) per stencil, stencil-major
+/// (#S×5), as in kernels/fill/fill.h. Lengths in metres, energies in joules.
+/// Topology is fixed for the object's lifetime: the shell model, the sparsity pattern, CHOLMOD's
+/// symbolic analysis and the fill evaluator's device buffers are built once.
+#include <memory>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "host/core/timer.h"
+#include "host/mesh/bvh.h"
+#include "host/stencil/fill_ratio.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/objective/objective_terms.h"
+#include "solvers/objective/structural_quantities.h"
+#include "solvers/shell/shell_model.h"
+
+namespace cutwork::solvers {
+
+class StencilledShell {
+ public:
+  /// `sim` is simulated; stencils sit on the surface of `surface_bvh` (the base mesh) with
+  /// tangents from `field`. Everything referenced must outlive this object. Throws what
+  /// ShellModel, EquilibriumSolver and FillRatioEvaluator throw for bad input.
+  StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_bvh, const Material& material,
+                  const LoadCase& load_case, const StencilLibrary& shapes, const TangentField& field,
+                  FillRatioOptions fill_options = {}, NewtonSettings newton = {});
+  StencilledShell(const StencilledShell&) = delete;
+  StencilledShell& operator=(const StencilledShell&) = delete;
+
+  /// α for `stencils`, with dα/dp when fill_options.derivatives (the default); an empty span
+  /// gives the uncut shell (α = 1). Throws InputError for invalid stencils.
+  const Eigen::VectorXd& set_stencils(std::span<const StencilParams> stencils);
+  /// The fill ratios of the last set_stencils (#F).
+  const Eigen::VectorXd& alpha() const { return m_alpha; }
+
+  /// Equilibrium at alpha(), warm-started. Throws SolveError (the solver keeps its last valid
+  /// equilibrium).
+  const EquilibriumStats& equilibrate();
+  /// Quantities of the last equilibrium (W, W_max, compliance, strain energy, displacement).
+  EquilibriumSummary summary() const;
+
+  /// dS/dp (#S×5) of an objective whose terms were evaluated at the last equilibrium, by the
+  /// adjoint and the pull-back; needs fill-ratio derivatives and at least one stencil. Returns dS/dα (#F) too when `d_alpha` is not null.
+  void parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,
+                          Eigen::VectorXd* d_alpha = nullptr);
+
+  /// Area removed by the stencils on the simulation mesh, Σ_t A_t (1 − α_t) (m²), and its
+  /// gradient (#S×5) when `d_params` is not null (needs derivatives).
+  double covered_area(Eigen::VectorXd* d_params) const;
+  /// Σ α_t A_t / Σ A_t: the fraction of the shell's material left.
+  double material_fraction() const;
+
+  const ShellModel& model() const { return *m_model; }
+  const EquilibriumSolver& solver() const { return *m_solver; }
+  EquilibriumSolver& solver() { return *m_solver; }
+  const FillRatioEvaluator& evaluator() const { return *m_fill; }
+  int num_stencils() const { return m_num_stencils; }
+
+  /// Accumulated wall time of the stages (fill, equilibrium, adjoint) and their counts.
+  struct StageTimes {
+    double fill = 0, equilibrium = 0, adjoint = 0, pullback = 0;
+    int fills = 0, equilibria = 0, adjoints = 0, newton_iterations = 0;
+  };
+  const StageTimes& times() const { return m_times; }
+
+ private:
+  const SurfaceMesh* m_sim;
+  FaceBvh m_sim_bvh;
+  std::unique_ptr<ShellModel> m_model;
+  std::unique_ptr<EquilibriumSolver> m_solver;
+  std::unique_ptr<FillRatioEvaluator> m_fill;
+  Eigen::VectorXd m_alpha;
+  int m_num_stencils = 0;
+  bool m_derivatives = false;
+  StageTimes m_times;
+};
+
+}  // namespace cutwork::solvers

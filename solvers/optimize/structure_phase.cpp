@@ -1,0 +1,287 @@
+#include "solvers/optimize/structure_phase.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+#include "host/core/timer.h"
+#include "host/pattern/overlaps.h"
+#include "solvers/objective/energy_density.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+/// The dimensionless S of the chosen objective at the shell's current equilibrium; W (#F) too.
+ObjectiveTerms objective_terms(const StencilledShell& shell, cutwork::StructuralObjective objective, double beta,
+                               double w_ref, double c_ref, Eigen::VectorXd& W) {
+  const ShellModel& model = shell.model();
+  const RowMatX3d& x = shell.solver().positions();
+  const Eigen::VectorXd& alpha = shell.solver().alpha();
+  if (objective == cutwork::StructuralObjective::Compliance) {
+    W = energy_density(model, x, alpha);
+    return compliance_objective(model, x, alpha, c_ref);
+  }
+  return energy_density_objective(model, x, alpha, beta, w_ref, &W);
+}
+
+bool same_params(std::span<const StencilParams> a, const std::vector<StencilParams>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].position != b[i].position || a[i].scale != b[i].scale || a[i].angle != b[i].angle ||
+        a[i].type != b[i].type)
+      return false;
+  return true;
+}
+
+}  // namespace
+
+std::vector<StencilParams> layout_params(const StencilLayout& layout) {
+  std::vector<StencilParams> p;
+  p.reserve(layout.size());
+  for (const auto& s : layout) p.push_back({s.position, s.scale, s.angle, s.type});
+  return p;
+}
+
+StructuralTerm::StructuralTerm(StencilledShell& shell, cutwork::StructuralObjective objective, double w_S,
+                               double beta, double w_ref, double c_ref, double target_covered_area)
+    : m_shell(shell),
+      m_objective(objective),
+      m_w_S(w_S),
+      m_beta(beta),
+      m_w_ref(w_ref),
+      m_c_ref(c_ref),
+      m_target(target_covered_area) {
+  if (objective == cutwork::StructuralObjective::None)
+    throw Error("StructuralTerm: the structural objective is 'none'");
+}
+
+void StructuralTerm::place(std::span<const StencilParams> params) {
+  if (m_placed_valid && same_params(params, m_placed)) return;
+  m_shell.set_stencils(params);
+  m_placed.assign(params.begin(), params.end());
+  m_placed_valid = true;
+}
+
+void StructuralTerm::restore(std::vector<StencilParams>& params) {
+  if (!constrained() || params.empty()) return;
+  const int S = int(params.size());
+  m_scales.resize(S);
+  for (int i = 0; i < S; ++i) m_scales[i] = params[size_t(i)].scale;
+  // Newton on k: C(q, k s, φ) = target, C the covered area (monotone in k where stencils do
+  // not overlap; a step that overshoots is halved).
+  std::vector<StencilParams> trial = params;
+  auto scaled = [&](int i) { return m_frozen.empty() || !m_frozen[size_t(i)]; };
+  auto covered_at = [&](double k, Eigen::VectorXd* dC) {
+    for (int i = 0; i < S; ++i) trial[size_t(i)].scale = scaled(i) ? k * m_scales[i] : m_scales[i];
+    m_placed_valid = false;
+    place(trial);
+    return m_shell.covered_area(dC);
+  };
+  double k = 1;
+  Eigen::VectorXd dC;
+  double C = covered_at(k, &dC);
+  const double tol = 1e-12 * std::max(m_target, 1e-300);
+  for (int it = 0; it < 30 && std::abs(C - m_target) > tol; ++it) {
+    double dCdk = 0;
+    for (int i = 0; i < S; ++i)
+      if (scaled(i)) dCdk += m_scales[i] * dC[5 * i + 3];
+    if (!(dCdk > 0)) break;  // every stencil off the mesh or clamped: nothing to restore with
+    double step = -(C - m_target) / dCdk;
+    double Cn = C;
+    Eigen::VectorXd dCn;
+    for (int half = 0; half < 30; ++half, step *= 0.5) {
+      if (!(k + step > 0)) continue;
+      Cn = covered_at(k + step, &dCn);
+      if (std::abs(Cn - m_target) < std::abs(C - m_target)) break;
+    }
+    k += step;
+    C = Cn;
+    dC = std::move(dCn);
+  }
+  if (std::abs(C - m_target) > 1e-9 * std::max(m_target, 1e-300))
+    throw SolveError(fmt::format("the total stencil area cannot be restored to {:.6g} m² (reached {:.6g} m²)",
+                                 m_target, C));
+  m_k = k;
+  m_dC = std::move(dC);
+  params = trial;
+  ++m_restorations;
+  m_max_k_change = std::max(m_max_k_change, std::abs(k - 1));
+}
+
+void StructuralTerm::restore_pullback(Eigen::VectorXd& g) const {
+  if (!constrained() || m_scales.size() == 0) return;
+  // p̃ = (q, k(p) s, φ) with C(p̃) = target: dk/dp = −(∂C/∂p at fixed k) / (∂C/∂k), where
+  // ∂C/∂q, ∂C/∂φ are taken at p̃ and ∂C/∂s_i = k ∂C/∂s̃_i; ∂C/∂k = Σ s_i ∂C/∂s̃_i.
+  const int S = int(m_scales.size());
+  // (Only during the optimisation: finalize() freezes stencils after it, and nothing is
+  // differentiated then.)
+  double dCdk = 0, a = 0;
+  for (int i = 0; i < S; ++i) {
+    dCdk += m_scales[i] * m_dC[5 * i + 3];
+    a += m_scales[i] * g[5 * i + 3];  // dJ/dk at fixed p
+  }
+  if (!(dCdk > 0)) return;
+  for (int i = 0; i < S; ++i) {
+    for (int c = 0; c < 5; ++c) {
+      const double dC_dp = c == 3 ? m_k * m_dC[5 * i + 3] : m_dC[5 * i + c];
+      if (c == 3) g[5 * i + 3] *= m_k;
+      g[5 * i + c] -= a * dC_dp / dCdk;
+    }
+  }
+}
+
+void StructuralTerm::finalize(const PatternSurface& surface, double safety, StencilLayout& layout) {
+  if (!constrained() || layout.empty()) return;
+  int S = int(layout.size());
+  m_frozen.assign(size_t(S), 0);
+  for (int pass = 0; pass < 50 && S > 0; ++pass) {
+    std::vector<StencilParams> p = layout_params(layout);
+    restore(p);
+    for (int i = 0; i < S; ++i) layout[size_t(i)].scale = p[size_t(i)].scale;
+    if (!find_overlaps(surface, layout, safety).any()) break;
+    std::vector<double> before(static_cast<size_t>(S));
+    for (int i = 0; i < S; ++i) before[size_t(i)] = layout[size_t(i)].scale;
+    // Shrinks only; a stencil is removed only when it would vanish (centre on the boundary).
+    if (resolve_overlaps(surface, layout, safety, Eigen::VectorXd::Zero(S)) > 0) {
+      S = int(layout.size());
+      m_frozen.assign(size_t(S), 0);
+      continue;
+    }
+    for (int i = 0; i < S; ++i)
+      if (layout[size_t(i)].scale != before[size_t(i)]) m_frozen[size_t(i)] = 1;
+  }
+  m_frozen.clear();
+}
+
+double StructuralTerm::structure(std::span<const StencilParams> params) {
+  place(params);
+  try {
+    const EquilibriumStats& st = m_shell.equilibrate();
+    if (!st.stable) return INFINITY;
+  } catch (const SolveError&) {
+    return INFINITY;
+  }
+  Eigen::VectorXd W;
+  const ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref, W);
+  m_last_S = t.value;
+  m_last_W_max = W.maxCoeff();
+  return t.value;
+}
+
+double StructuralTerm::evaluate(std::span<const StencilParams> params, Eigen::VectorXd* gradient) {
+  place(params);
+  try {
+    const EquilibriumStats& st = m_shell.equilibrate();
+    if (!st.stable) return INFINITY;
+  } catch (const SolveError&) {
+    return INFINITY;
+  }
+  Eigen::VectorXd W;
+  const ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref, W);
+  m_last_S = t.value;
+  m_last_W_max = W.maxCoeff();
+  if (gradient) {
+    m_shell.parameter_gradient(t, *gradient);
+    *gradient *= m_w_S;
+  }
+  return m_w_S * t.value;
+}
+
+StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
+                                         const StencilLayout& start, double w_ref,
+                                         const StructurePhaseOptions& options) {
+  Stopwatch clock;
+  using Objective = cutwork::StructuralObjective;
+  if (settings.objective == Objective::None) throw Error("run_structure_phase: the structural objective is 'none'");
+  if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
+  StructurePhaseResult result;
+  result.objective = settings.objective == Objective::EnergyDensity ? "energy_density"
+                     : settings.objective == Objective::Adaptive    ? "adaptive"
+                                                                    : "compliance";
+  result.w_ref = w_ref;
+  result.layout = start;
+  StencilLayout& layout = result.layout;
+  if (layout.empty()) throw InputError("the structural phase needs stencils, and the pattern phase placed none");
+
+  // The pattern design: its equilibrium gives the references of compliance and adaptivity.
+  std::vector<StencilParams> params = layout_params(layout);
+  shell.set_stencils(params);
+  shell.equilibrate();
+  const EquilibriumSummary pattern = shell.summary();
+  result.c_ref = pattern.compliance;
+  result.covered_area_target = shell.covered_area(nullptr);
+  const AdaptiveThreshold mode =
+      settings.adaptive_mode == "median" ? AdaptiveThreshold::Median : AdaptiveThreshold::TopPercent;
+  double beta = settings.beta * w_ref;
+  if (settings.objective == Objective::Adaptive) beta = adaptive_threshold(pattern.energy_density, mode, settings.adaptive_y);
+  if (settings.objective == Objective::Compliance && !(result.c_ref > 0))
+    throw SolveError("the pattern design's loads do no work (compliance 0): nothing to minimise");
+
+  StructuralTerm term(shell, settings.objective, settings.w_S, beta, w_ref, result.c_ref, result.covered_area_target);
+  const double w_P = ctx.settings().w_P;
+  auto joint_value = [&](const StencilLayout& l, double& S, double& P) {
+    ctx.energy().rematch(l);
+    P = ctx.energy().evaluate(l);
+    S = term.structure(layout_params(l));
+    return settings.w_S * S + w_P * P;
+  };
+  result.J_start = joint_value(layout, result.S_start, result.P_start);
+  if (!std::isfinite(result.S_start))
+    throw SolveError("the pattern design has no stable equilibrium under the scene's loads");
+
+  PatternPhaseOptions po;
+  po.joint = &term;
+  po.w_P = w_P;
+  po.max_rotation = settings.max_rotation * M_PI / 180.0;
+  po.max_iterations = options.max_iterations >= 0 ? options.max_iterations : settings.max_iterations;
+  po.progress = options.progress;
+  PatternRng rng(options.seed);
+  PatternPhaseResult acc;
+  const int optimisations = settings.objective == Objective::Adaptive ? settings.max_rounds : 1;
+  for (int k = 0; k < optimisations; ++k) {
+    result.beta_history.push_back(term.beta());
+    optimize_pattern(ctx, layout, po, acc);
+    ++result.optimisations;
+    // §6.3: fill the holes the optimisation opened, and continue when stencils were added.
+    for (int f = 0; settings.fill_holes && f < 3; ++f) {
+      const int added = ctx.fill_holes(layout, rng);
+      result.inserted_by_hole_filling += added;
+      if (added == 0) break;
+      if (settings.objective == Objective::Compliance) {
+        // New stencils add area; the constraint holds the design's total, so restore it.
+        std::vector<StencilParams> p = layout_params(layout);
+        term.restore(p);
+        for (size_t i = 0; i < layout.size(); ++i) layout[i].scale = p[i].scale;
+      }
+      optimize_pattern(ctx, layout, po, acc);
+      ++result.optimisations;
+    }
+    if (settings.objective != Objective::Adaptive) break;
+    // Adaptive: move β to the statistic of the converged design; stop when it settles.
+    params = layout_params(layout);
+    if (!std::isfinite(term.structure(params))) break;
+    const double next = adaptive_threshold(shell.summary().energy_density, mode, settings.adaptive_y);
+    if (std::abs(next - term.beta()) <= 1e-3 * w_ref) break;
+    term.set_beta(next);
+  }
+  result.beta = settings.objective == Objective::Compliance ? std::nan("") : term.beta();
+  result.J_end = joint_value(layout, result.S_end, result.P_end);
+  result.covered_area_final = shell.covered_area(nullptr);
+  result.rounds = acc.rounds;
+  result.iterations = acc.iterations;
+  result.evaluations = acc.evaluations;
+  result.type_changes = acc.type_changes;
+  result.removed = acc.removed;
+  result.round_histories = std::move(acc.round_histories);
+  result.stop_reason = acc.stop_reason;
+  result.restorations = term.restorations();
+  result.max_restoring_change = term.max_restoring_change();
+  result.seconds = clock.seconds();
+  return result;
+}
+
+}  // namespace cutwork::solvers

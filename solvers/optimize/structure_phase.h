@@ -1,0 +1,118 @@
+#pragma once
+/// The structural phase of a design (§5.3–§5.4, §6): the joint minimisation of
+///     J(p) = w_S S(α(p), x(α(p))) + w_P P(p)                                         (19)
+/// with L-BFGS-B, starting from the pattern phase's layout.
+///
+/// Every evaluation is consistent: the fill ratios of p, then a warm-started Newton solve to
+/// equilibrium, then S and — for the gradient — the adjoint with the converged factor, the
+/// fill kernel's exact dα/dp pulled back, and dP/dp from the pattern objective. A point where no
+/// stable equilibrium exists evaluates to +∞ (the line search backs off). The rounds of the
+/// pattern phase carry over: DET neighbourhoods are re-matched and stencil types voted between
+/// L-BFGS-B runs (solvers/optimize/pattern_phase.h, optimize_pattern with a JointTerm).
+///
+/// Objectives (scene `structure.objective`, solvers/objective/structural_objective.h):
+///  - energy_density (17): β = structure.beta × W_ref, W_ref = W_max of the uncut shell;
+///  - adaptive: β starts at, and after every converged optimisation moves to, the median of W or
+///    the mean of its top y% (structure.adaptive_mode, adaptive_y); the optimisation continues
+///    until β changes by less than 1e-3 W_ref, at most structure.max_rounds times;
+///  - compliance (18): the total stencil area is held at the pattern design's. The constraint
+///    is restored before every evaluation by one uniform factor k on all scales (Newton on k,
+///    to 1e-12 relative), so J is evaluated only on the constraint and its gradient is the
+///    chain rule through the restoration — the projection of ∇J onto the constraint's tangent
+///    space along the restoring direction. (The paper projects orthogonally and then restores;
+///    projecting along the direction that restores keeps the line search's function smooth and
+///    exact.)
+/// Angles φ join the variables within ±structure.max_rotation of the field-aligned start.
+/// After the optimisation the overlaps left by the soft collision penalty are removed by
+/// shrinking (host/pattern/overlaps.h) and the area constraint restored again.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "host/scene/scene.h"
+#include "solvers/objective/structural_objective.h"
+#include "solvers/optimize/pattern_phase.h"
+#include "solvers/optimize/stencilled_shell.h"
+
+namespace cutwork::solvers {
+
+/// The joint term w_S·S of (19) on a StencilledShell (see the file comment for the objectives).
+class StructuralTerm final : public JointTerm {
+ public:
+  /// `w_ref` (J/m²) scales energy densities (the uncut shell's W_max); `c_ref` (J) compliance.
+  /// For Compliance, `target_covered_area` (m², simulation mesh) is the constraint's value.
+  StructuralTerm(StencilledShell& shell, cutwork::StructuralObjective objective, double w_S, double beta,
+                 double w_ref, double c_ref, double target_covered_area);
+
+  void restore(std::vector<StencilParams>& params) override;
+  void restore_pullback(Eigen::VectorXd& gradient) const override;
+  double evaluate(std::span<const StencilParams> params, Eigen::VectorXd* gradient) override;
+  /// Compliance: alternates restoring the area and shrinking overlapping stencils, freezing
+  /// every stencil that had to shrink, so that the design ends both admissible and restored.
+  void finalize(const PatternSurface& surface, double safety, StencilLayout& layout) override;
+  double last_structure() const override { return m_last_S; }
+  double last_W_max() const override { return m_last_W_max; }
+
+  /// S (unweighted) at `params`, or +∞ without a stable equilibrium. Leaves the shell there.
+  double structure(std::span<const StencilParams> params);
+  double beta() const { return m_beta; }
+  void set_beta(double beta) { m_beta = beta; }
+  /// Restorations so far and the largest |k − 1| among them.
+  int restorations() const { return m_restorations; }
+  double max_restoring_change() const { return m_max_k_change; }
+
+ private:
+  bool constrained() const { return m_objective == cutwork::StructuralObjective::Compliance; }
+  /// Sets the shell's stencils unless they are already the ones of the last restore().
+  void place(std::span<const StencilParams> params);
+
+  StencilledShell& m_shell;
+  cutwork::StructuralObjective m_objective;
+  double m_w_S, m_beta, m_w_ref, m_c_ref, m_target;
+  double m_last_S = std::nan(""), m_last_W_max = std::nan("");
+  // The last restoration: k, the original scales, ∂C/∂p at the restored parameters (#S×5).
+  double m_k = 1;
+  Eigen::VectorXd m_scales, m_dC;
+  std::vector<char> m_frozen;  ///< stencils restore() does not scale (finalize); empty: none
+  std::vector<StencilParams> m_placed;
+  bool m_placed_valid = false;
+  int m_restorations = 0;
+  double m_max_k_change = 0;
+};
+
+struct StructurePhaseOptions {
+  int max_iterations = -1;  ///< L-BFGS-B iterations per optimisation; −1: structure.max_iterations
+  std::function<bool(const PatternProgress&)> progress;
+  unsigned seed = 1;        ///< hole filling's random order
+};
+
+struct StructurePhaseResult {
+  StencilLayout layout;
+  std::string objective;           ///< energy_density, adaptive or compliance
+  double beta = std::nan("");      ///< final threshold (J/m²; energy density and adaptive)
+  std::vector<double> beta_history;///< adaptive: β of each optimisation
+  double w_ref = 0, c_ref = 0;     ///< references of the dimensionless S (J/m², J)
+  double J_start = 0, J_end = 0, S_start = 0, S_end = 0, P_start = 0, P_end = 0;
+  int optimisations = 0;           ///< L-BFGS-B sequences (adaptive β updates, hole filling)
+  int rounds = 0, iterations = 0, evaluations = 0, type_changes = 0, removed = 0;
+  int inserted_by_hole_filling = 0;
+  double covered_area_target = 0, covered_area_final = 0;  ///< m² (compliance)
+  int restorations = 0;
+  double max_restoring_change = 0;
+  std::vector<std::vector<double>> round_histories;  ///< J per accepted iterate, per round
+  std::string stop_reason;
+  double seconds = 0;
+  std::vector<std::string> notes;
+};
+
+/// Runs the structural phase from `start` (the pattern design on ctx's surface). `shell` must be
+/// built on the scene's simulation mesh with the context's shapes and field; `w_ref` is W_max of
+/// the uncut shell. Throws SolveError when the pattern design itself has no stable equilibrium.
+StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
+                                         const StencilLayout& start, double w_ref,
+                                         const StructurePhaseOptions& options = {});
+
+/// The parameters of a layout (positions on the surface).
+std::vector<StencilParams> layout_params(const StencilLayout& layout);
+
+}  // namespace cutwork::solvers
