@@ -28,6 +28,27 @@ void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default
   cmd.add_flag("--quiet,-q", opts.quiet, "print nothing but errors");
 }
 
+namespace {
+template <typename F>
+auto timed(Timings& timings, const char* name, F&& f) {
+  Stopwatch sw;
+  auto value = f();
+  timings.add(name, sw.seconds());
+  return value;
+}
+}  // namespace
+
+LoadedScene::LoadedScene(const RunOptions& opts, Timings& timings)
+    : scene(timed(timings, "scene",
+                  [&] {
+                    std::string notice;
+                    Scene s = load_scene(opts.scene, &notice);
+                    if (!notice.empty()) notes.push_back(notice);
+                    return s;
+                  })),
+      meshes(timed(timings, "meshes", [&] { return build_scene_meshes(scene); })),
+      load_case(timed(timings, "load_case", [&] { return resolve_load_case(scene, meshes.sim); })) {}
+
 std::unique_ptr<tbb::global_control> limit_threads(int threads) {
   if (threads <= 0) return nullptr;
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -84,11 +105,16 @@ void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
   if (!m_active || (m_dirty && m_since_draw.seconds() < 0.1)) return;
   m_since_draw.restart();
   const std::string w = std::isfinite(p.W_max) ? fmt::format("{:.4g} J/m^2", p.W_max) : std::string("-");
-  std::cout << fmt::format("\r\x1b[K{:<9} round {:>3}  iteration {:>5}  J {:>12.6g}  |grad J| {:>10.3e}  W_max {:<14} "
-                           "{} stencils  {:.1f} s",
-                           phase, p.round, p.iteration, p.objective, p.gradient_norm, w, p.stencils,
-                           m_clock.seconds())
-            << std::flush;
+  if (p.stage == "initialise") {
+    std::cout << fmt::format("\r\x1b[K{:<9} initialised: {} stencils  {:.1f} s", phase, p.stencils, m_clock.seconds())
+              << std::flush;
+  } else {
+    std::cout << fmt::format("\r\x1b[K{:<9} round {:>3}  iteration {:>5}  J {:>12.6g}  |grad J| {:>10.3e}  W_max {:<14} "
+                             "{} stencils  {:.1f} s",
+                             phase, p.round, p.iteration, p.objective, p.gradient_norm, w, p.stencils,
+                             m_clock.seconds())
+              << std::flush;
+  }
   m_dirty = true;
 }
 

@@ -2,6 +2,7 @@
 /// Pieces shared by the `cutwork` subcommands that run a pipeline (design, simulate).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -28,6 +29,17 @@ struct RunOptions {
 
 /// Adds SCENE, --out, --threads, --quiet to `cmd`, storing into `opts`.
 void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default_scene);
+
+/// What every pipeline command starts with: the scene, its meshes and the supports and loads on
+/// the simulation mesh, timed into `timings` ("scene", "meshes", "load_case"). `notes` collects
+/// what to tell the user once the run has succeeded (a failure prints one line only).
+struct LoadedScene {
+  LoadedScene(const RunOptions& opts, Timings& timings);
+  std::vector<std::string> notes;
+  Scene scene;
+  SceneMeshes meshes;
+  LoadCase load_case;
+};
 
 /// Bounds TBB's parallelism for the lifetime of the returned object (none when threads == 0).
 std::unique_ptr<tbb::global_control> limit_threads(int threads);

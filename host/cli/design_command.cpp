@@ -28,6 +28,7 @@ struct DesignCommandOptions {
   RunOptions run;
   std::string phases = "pattern,structure";
   std::string device = "auto";
+  int iterations = 0;
 };
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -59,18 +60,11 @@ void run_design_command(const DesignCommandOptions& opts) {
   const bool structure = opts.phases == "pattern,structure" || opts.phases == "all";
   Timings timings;
   Stopwatch total, sw;
-  std::vector<std::string> notes;  // held back until the run succeeds: a failure prints one line
-  std::string notice;
-  const Scene scene = load_scene(opts.run.scene, &notice);
-  if (!notice.empty()) notes.push_back(notice);
-  timings.add("scene", sw.seconds());
-
-  sw.restart();
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  timings.add("meshes", sw.seconds());
-  sw.restart();
-  const LoadCase load_case = resolve_load_case(scene, meshes.sim);
-  timings.add("load_case", sw.seconds());
+  LoadedScene loaded(opts.run, timings);
+  const Scene& scene = loaded.scene;
+  const SceneMeshes& meshes = loaded.meshes;
+  const LoadCase& load_case = loaded.load_case;
+  std::vector<std::string>& notes = loaded.notes;  // told once the run has succeeded
 
   const std::filesystem::path out(opts.run.out);
   if (none) {
@@ -99,6 +93,7 @@ void run_design_command(const DesignCommandOptions& opts) {
   solvers::DesignOptions dopt;
   dopt.structure = structure;
   dopt.fill = device.fill;
+  if (opts.iterations > 0) dopt.pattern_iterations = dopt.structure_iterations = opts.iterations;
   dopt.progress = [&](const std::string& phase, const PatternProgress& p) {
     progress.update(phase, p);
     return true;
@@ -223,6 +218,11 @@ void add_design_command(CLI::App& app) {
       ->check(CLI::IsMember({"pattern", "pattern,structure", "all", "none"}))
       ->capture_default_str();
   add_device_option(*cmd, opts->device);
+  cmd->add_option("--iterations", opts->iterations,
+                  "L-BFGS-B iterations per phase, overriding the scene's pattern.max_iterations and "
+                  "structure.max_iterations (0: the scene's)")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
   cmd->callback([opts] { run_design_command(*opts); });
 }
 

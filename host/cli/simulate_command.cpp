@@ -61,20 +61,11 @@ void run_simulate(const SimulateOptions& opts) {
   Timings timings;
   Stopwatch total;
   Stopwatch sw;
-  // Notes are held back until the run succeeds, so that a failure prints exactly one line.
-  std::vector<std::string> notes;
-  std::string notice;
-  const Scene scene = load_scene(opts.run.scene, &notice);
-  if (!notice.empty()) notes.push_back(notice);
-  timings.add("scene", sw.seconds());
-
-  sw.restart();
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  timings.add("meshes", sw.seconds());
-
-  sw.restart();
-  const LoadCase load_case = resolve_load_case(scene, meshes.sim);
-  timings.add("load_case", sw.seconds());
+  LoadedScene loaded(opts.run, timings);
+  const Scene& scene = loaded.scene;
+  const SceneMeshes& meshes = loaded.meshes;
+  const LoadCase& load_case = loaded.load_case;
+  std::vector<std::string>& notes = loaded.notes;  // told once the run has succeeded
 
   sw.restart();
   const solvers::ShellModel model(meshes.sim, scene.material, load_case);

@@ -1,8 +1,13 @@
 #include "host/core/atomic_file.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <fstream>
 #include <random>
 #include <system_error>
+
+#include <fmt/format.h>
 
 #include "host/core/error.h"
 
@@ -12,8 +17,16 @@ namespace fs = std::filesystem;
 namespace {
 fs::path temporary_beside(const fs::path& path) {
   std::random_device rd;
-  return path.parent_path() /
-         ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000u));
+  return path.parent_path() / fmt::format(".{}.tmp{}", path.filename().string(), rd() % 1000000u);
+}
+
+/// Flushes the file's data to the disk, so that the rename cannot outlive the content after a
+/// crash of the machine (best effort: a file system without fsync just skips it).
+void sync_to_disk(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
 }
 }  // namespace
 
@@ -48,6 +61,7 @@ void write_file_atomic(const fs::path& path, const std::function<void(std::ostre
       throw InputError(path.string() + ": write failed (disk full?)");
     }
   }
+  sync_to_disk(tmp);
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) {

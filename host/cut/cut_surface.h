@@ -22,13 +22,22 @@
 /// decisions and the same vertex X_u + τ (X_v − X_u), bit for bit; the stencils of both faces
 /// split a shared edge, so the output is watertight across it even where only one face is cut
 /// (a polygon touching the edge, a fold the other face sees from behind).
-/// Exact contacts happen (lattice meshes, stencils centred on vertices) and are resolved the
-/// same way on both sides: a polygon vertex within 1e-12 (relative to the projected edge
-/// length) of an edge's line lies on the edge; points of one edge within 1e-12 in τ are one
-/// vertex, and within 1e-12 of an end they are that mesh vertex; sub-triangles below 1e-14 of
-/// their face's area are dropped. Where round-off still makes a face's tests inconsistent (not
-/// seen in the tests) the cut keeps the polygon pieces whose midpoint lies inside the face and
-/// classification by centroids keeps the area right; the output may then have a T-junction.
+/// Exact and near contacts happen (lattice meshes, stencils centred on vertices, outlines an
+/// optimiser pushed against the border or against each other) and are snapped, with one
+/// distance δ = 1e-9 × the mesh's longest edge, the same way on both sides: a polygon vertex
+/// within 2δ of a mesh vertex is that vertex, within δ of an edge (in the stencil's frame, δ/s)
+/// lies on the edge; points of one edge within δ of each other are one vertex, and within δ of
+/// an end they are that mesh vertex; inside a face, a polygon vertex within δ of another
+/// stencil's polygon vertex is that vertex and within δ of another stencil's polygon edge lies
+/// on it. So no output face is a needle or a sliver (twice its area > 1e-10 × its longest edge²
+/// wherever one stencil meets the mesh or another stencil in a point; the mesh loader asks for
+/// 1e-12), and the area moves by at most δ × the polygon's local edge lengths per snap. Sub-
+/// triangles below 1e-14 of their face's area (round-off slivers outside the face) are dropped.
+/// Where round-off still makes a face's tests inconsistent (not seen in the tests) the cut
+/// keeps the polygon pieces whose midpoint lies inside the face and classification by
+/// centroids keeps the area right; the output may then have a T-junction.
+/// Coordinates are not made robust to single precision: a face may be thinner than float
+/// round-off of its coordinates (e.g. an outline 1e-8 × the edge length from the border).
 #include <span>
 
 #include <Eigen/Core>

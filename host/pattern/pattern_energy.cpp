@@ -35,7 +35,7 @@ double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales
     c.row(i) = fr.origin.transpose();
     if (grad) J[size_t(i)] = fj.d_origin;
     slack[i] = (qi - fr.origin).norm();
-    t.tether += st.tether * slack[i] * slack[i] * inv2;
+    t.tether += st.admissibility * st.tether * slack[i] * slack[i] * inv2;
   }
 
   RowMatX3d gc, gq;
@@ -68,10 +68,10 @@ double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales
       return det_objective(*m_exemplar, m_hoods, c, scales, types, pq, ps);
     });
   }
-  t.collision = weighted(st.weights.collision, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
+  t.collision = weighted(st.admissibility * st.weights.collision, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
     return collision_objective(c, scales, st.safety, st.unit, cand, pq, ps);
   });
-  t.boundary = weighted(st.weights.collision, &gq, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
+  t.boundary = weighted(st.admissibility * st.weights.collision, &gq, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
     return boundary_collision_objective(q, scales, st.safety, st.unit, m_surface->boundary(), &slack,
                                         pq, ps);
   });
@@ -88,7 +88,7 @@ double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales
       const Vec3 qi = q.row(i).transpose(), ci = c.row(i).transpose();
       // ∂|q − Π(q)|²/∂q = 2 (q − Π(q)) (the squared distance to the surface).
       const Vec3 g = J[size_t(i)].transpose() * gc.row(i).transpose() +
-                     gq.row(i).transpose() + 2 * st.tether * inv2 * (qi - ci);
+                     gq.row(i).transpose() + 2 * st.admissibility * st.tether * inv2 * (qi - ci);
       gq.row(i) = g.transpose();
     }
     if (d_q) *d_q = gq;

@@ -32,6 +32,10 @@ struct PatternEnergySettings {
   double unit = 0.01;        ///< ℓ (m)
   PackingWeights weights;    ///< collision (both kinds), repulsion and growth (packing)
   double tether = 100.0;     ///< w_t
+  /// Multiplies the collision, boundary and tether weights: the terms that keep a layout
+  /// admissible rather than pleasing. The joint optimiser divides P by the stencil count and
+  /// raises this by the same factor, so admissibility keeps its strength (structure_phase.h).
+  double admissibility = 1.0;
 };
 
 /// Values of the parts of one evaluation (same units as the total).
@@ -47,6 +51,8 @@ class PatternEnergy {
                 const DetExemplar* exemplar = nullptr);
 
   const PatternEnergySettings& settings() const { return m_settings; }
+  /// See PatternEnergySettings::admissibility.
+  void set_admissibility(double factor) { m_settings.admissibility = factor; }
   /// DET: matches every stencil of `layout` and freezes the neighbourhoods and frames used by
   /// evaluate() until the next call (the alternation of §4.2/MWT11). Packing: nothing.
   void rematch(const StencilLayout& layout);

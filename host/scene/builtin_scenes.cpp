@@ -56,7 +56,7 @@ const std::vector<Entry>& entries() {
   "loads": [{"type": "point", "force": [0, 0, -20],
              "select": {"entity": "vertices", "near": {"point": [0, 0, -1]}, "nearest": 7}}],
   "stencils": [{"name": "flower", "kind": "flower"}, {"name": "circle", "kind": "circle"}],
-  "pattern": {"objective": "exemplar", "exemplar": "flowers", "s": 0.1, "r_N": 0.3, "seed": 1},
+  "pattern": {"objective": "exemplar", "exemplar": "flowers", "s": 0.1, "r_N": 0.3, "seed": 1, "count": 185},
   "structure": {"objective": "energy_density", "w_S": 200, "beta": 0.8}
 })json"},
       {{"table", "Fig. 8: monocoque table fixed at its feet, loaded on the top"},
@@ -68,7 +68,7 @@ const std::vector<Entry>& entries() {
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.001}}}],
   "loads": [{"type": "area", "force": [0, 0, -1500], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "circle", "kind": "circle"}],
-  "pattern": {"objective": "exemplar", "exemplar": "circles", "s": 0.0, "r_N": 0.3, "seed": 1},
+  "pattern": {"objective": "exemplar", "exemplar": "circles", "s": 0.0, "r_N": 0.3, "seed": 1, "count": 462},
   "structure": {"objective": "energy_density", "w_S": 10000, "beta": 0.5}
 })json"},
       {{"chair", "Fig. 6: monocoque cantilever chair fixed on its runner, loaded on seat and back rest"},
@@ -81,7 +81,7 @@ const std::vector<Entry>& entries() {
   "loads": [{"type": "area", "force": [0, 0, -4000], "select": {"entity": "faces", "x": {"above": 0.05, "below": 0.4}, "z": {"above": 0.4, "below": 0.5}}},
             {"type": "area", "force": [-800, 0, 0], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "star", "kind": "star"}, {"name": "circle", "kind": "circle"}],
-  "pattern": {"objective": "exemplar", "exemplar": "mix", "s": 0.2, "r_N": 0.3, "seed": 1},
+  "pattern": {"objective": "exemplar", "exemplar": "mix", "s": 0.2, "r_N": 0.3, "seed": 1, "count": 436},
   "structure": {"objective": "energy_density", "w_S": 1000, "beta": 0.7}
 })json"},
       {{"pavilion", "Figs. 1, 7: doubly curved vault on four legs under self-weight, energy-density objective"},
@@ -93,7 +93,7 @@ const std::vector<Entry>& entries() {
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.01}}}],
   "loads": [{"type": "self_weight", "gravity": [0, 0, -9.81]}],
   "stencils": [{"name": "flower", "kind": "flower"}],
-  "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1},
+  "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1, "count": 310},
   "structure": {"objective": "energy_density", "w_S": 500, "beta": 0.2}
 })json"},
       {{"pavilion-adaptive", "Fig. 7: the pavilion with the adaptive energy-density threshold (median)"},
@@ -105,7 +105,7 @@ const std::vector<Entry>& entries() {
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.01}}}],
   "loads": [{"type": "self_weight", "gravity": [0, 0, -9.81]}],
   "stencils": [{"name": "flower", "kind": "flower"}],
-  "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1},
+  "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1, "count": 310},
   "structure": {"objective": "adaptive", "adaptive_mode": "median", "w_S": 500, "beta": 0.2}
 })json"},
       {{"pavilion-compliance", "Fig. 7: the pavilion minimising compliance at constant stencil area"},
@@ -117,7 +117,7 @@ const std::vector<Entry>& entries() {
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.01}}}],
   "loads": [{"type": "self_weight", "gravity": [0, 0, -9.81]}],
   "stencils": [{"name": "flower", "kind": "flower"}],
-  "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1},
+  "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1, "count": 310},
   "structure": {"objective": "compliance", "w_S": 500, "beta": 0.2}
 })json"},
   };

@@ -130,7 +130,16 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
   Eigen::VectorXd x = x0.cwiseMax(lb).cwiseMin(ub);
   {
     Eigen::VectorXd g;
-    result.f_start = tracker(x, g);
+    try {
+      result.f_start = tracker(x, g);
+    } catch (const NonFiniteValue&) {
+      // Nowhere to go from a start without a value: report it, x unchanged.
+      result.x = x;
+      result.f = result.f_start = INFINITY;
+      result.history.push_back(INFINITY);
+      result.stop_reason = "non-finite objective at the start";
+      return result;
+    }
     result.history.push_back(result.f_start);
   }
   if (x.size() == 0 || options.max_iterations == 0) {

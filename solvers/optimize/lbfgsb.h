@@ -47,7 +47,8 @@ struct LbfgsbResult {
 };
 
 /// Minimises f over lb ≤ x ≤ ub starting at x0 (projected onto the box first).
-/// Non-finite values or gradients from f are treated as +∞ (the line search backs off).
+/// Non-finite values or gradients from f are treated as +∞ (the line search backs off); a
+/// non-finite start returns at once (stop_reason "non-finite objective at the start", x = x0).
 /// Throws std::invalid_argument for mismatched sizes or lb > ub.
 LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0,
                              const Eigen::VectorXd& lb, const Eigen::VectorXd& ub,

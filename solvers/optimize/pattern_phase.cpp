@@ -261,6 +261,8 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
   result.stop_reason = budget == 0 ? "iterations" : "";
   std::vector<StencilParams> params;
   Eigen::VectorXd g_params;
+  double best_round_end = INFINITY;
+  int stalled_rounds = 0;
   while (used < budget && !layout.empty() && !stopped_by_callback) {
     if (!matched) energy.rematch(layout);
     matched = false;
@@ -324,7 +326,12 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
     result.evaluations += res.evaluations;
     result.round_histories.push_back(res.history);
     ++result.rounds;
-    result.stop_reason = res.stop_reason;
+    // The phase's reason: the optimiser's own ("gradient", "decrease", a line-search failure,
+    // "callback"), "iterations" when the budget is spent, or "stalled" (below).
+    if (res.converged || res.stop_reason == "callback" || res.stop_reason.rfind("line search", 0) == 0)
+      result.stop_reason = res.stop_reason;
+    else
+      result.stop_reason = used >= budget ? "iterations" : "round";  // "round": the loop goes on
     unpack(res.x);
     if (joint) joint->restore(params);
     for (int i = 0; i < S; ++i) {
@@ -347,11 +354,31 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
       settled = settled && changes == 0 && (res.iterations == 0 || same_matching(previous, energy.neighborhoods()));
       previous = energy.neighborhoods();
     }
+    // Stalled: three rounds in a row ended less than round_tolerance (relative) below the best
+    // round end so far. For exemplars each re-matching then takes back what the round gained;
+    // for packing the growth term creeps on against the bounds.
+    const double end = res.history.back();
+    if (end < best_round_end - options.round_tolerance * std::max(1.0, std::abs(end))) {
+      best_round_end = end;
+      stalled_rounds = 0;
+    } else {
+      ++stalled_rounds;
+    }
+    if (!settled && stalled_rounds >= 3) {
+      settled = true;
+      result.stop_reason = "stalled";
+    }
     if (settled) break;
   }
 
   // The lower bounds of the run (taken at the stencils' start) are the floor of the shrinking.
-  result.removed += resolve_overlaps(surface, layout, ctx.settings().s, lower);
+  // A joint term's restoration may have scaled a stencil below its bound on purpose; such a
+  // stencil is removed only when it would lose more than a quarter of its size.
+  Eigen::VectorXd floor = lower;
+  if (joint)
+    for (size_t i = 0; i < layout.size(); ++i)
+      floor[Eigen::Index(i)] = 0.75 * std::min(lower[Eigen::Index(i)], layout[i].scale);
+  result.removed += resolve_overlaps(surface, layout, ctx.settings().s, floor);
   if (joint) joint->finalize(surface, ctx.settings().s, layout);
   result.seconds_optimize += clock.seconds();
 }

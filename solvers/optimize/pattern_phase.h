@@ -7,7 +7,7 @@
 /// field, the surface queries, the exemplar, the units — so that the joint optimiser of the
 /// structural phase reuses the same objective, bounds, re-matching and hole filling.
 ///
-/// Units and automatic choices (documented in docs/PATTERNS.md terms):
+/// Units and automatic choices:
 ///  - ℓ (`unit`): the nominal stencil scale (bounding radius, m): pattern.scale when given;
 ///    else from pattern.count (packing: a maximal Poisson-disk packing of that many stencils;
 ///    exemplar: the exemplar's density); else automatic: the scale at which ~300 stencils
@@ -131,6 +131,9 @@ struct PatternProgress {
 struct PatternPhaseOptions {
   int max_iterations = -1;        ///< total L-BFGS-B iterations; −1: pattern.max_iterations
   int iterations_per_round = 0;   ///< 0: 20 for exemplars (re-match between rounds), 100 packing
+  /// The rounds stop when three in a row end less than this (relative) below the best round
+  /// end so far ("stalled").
+  double round_tolerance = 1e-4;
   bool optimize = true;           ///< false: initialisation only
   /// §6.3: after convergence re-run the initialisation on the layout and optimise again when
   /// it added stencils, at most max_fill_rounds times (scene: structure.fill_holes).
@@ -162,6 +165,9 @@ struct PatternPhaseResult {
   int iterations = 0;              ///< accepted L-BFGS-B iterations
   int evaluations = 0;             ///< objective evaluations
   int type_changes = 0;            ///< by majority vote
+  /// Why the phase ended: "gradient" or "decrease" (L-BFGS-B's tolerances), "stalled"
+  /// (three rounds without progress), "iterations" (budget spent),
+  /// "callback", or "line search: …".
   std::string stop_reason;
   /// The optimiser's objective after each accepted iterate, one list per round (the first
   /// value of each is the round's start): monotone within a round by construction.

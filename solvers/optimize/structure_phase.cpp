@@ -67,6 +67,7 @@ void StructuralTerm::place(std::span<const StencilParams> params) {
 }
 
 void StructuralTerm::restore(std::vector<StencilParams>& params) {
+  m_restored = true;
   if (!constrained() || params.empty()) return;
   const int S = int(params.size());
   m_scales.resize(S);
@@ -102,9 +103,9 @@ void StructuralTerm::restore(std::vector<StencilParams>& params) {
     C = Cn;
     dC = std::move(dCn);
   }
-  if (std::abs(C - m_target) > 1e-9 * std::max(m_target, 1e-300))
-    throw SolveError(fmt::format("the total stencil area cannot be restored to {:.6g} m² (reached {:.6g} m²)",
-                                 m_target, C));
+  // Unreachable (stencils piled on each other saturate the covered area): the point is not
+  // admissible, and evaluate() says so with +∞, which makes the line search back off.
+  m_restored = std::abs(C - m_target) <= 1e-9 * std::max(m_target, 1e-300);
   m_k = k;
   m_dC = std::move(dC);
   params = trial;
@@ -142,6 +143,10 @@ void StructuralTerm::finalize(const PatternSurface& surface, double safety, Sten
     std::vector<StencilParams> p = layout_params(layout);
     restore(p);
     for (int i = 0; i < S; ++i) layout[size_t(i)].scale = p[size_t(i)].scale;
+    if (!m_restored)
+      throw SolveError(fmt::format("the total stencil area cannot be restored to {:.6g} m² once overlapping "
+                                   "stencils are shrunk; lower structure.w_S or the stencil density",
+                                   m_target));
     if (!find_overlaps(surface, layout, safety).any()) break;
     std::vector<double> before(static_cast<size_t>(S));
     for (int i = 0; i < S; ++i) before[size_t(i)] = layout[size_t(i)].scale;
@@ -157,38 +162,34 @@ void StructuralTerm::finalize(const PatternSurface& surface, double safety, Sten
   m_frozen.clear();
 }
 
-double StructuralTerm::structure(std::span<const StencilParams> params) {
+std::optional<ObjectiveTerms> StructuralTerm::solve(std::span<const StencilParams> params) {
   place(params);
   try {
-    const EquilibriumStats& st = m_shell.equilibrate();
-    if (!st.stable) return INFINITY;
+    if (!m_shell.equilibrate().stable) return std::nullopt;
   } catch (const SolveError&) {
-    return INFINITY;
+    return std::nullopt;
   }
   Eigen::VectorXd W;
-  const ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref, W);
+  ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref, W);
   m_last_S = t.value;
   m_last_W_max = W.maxCoeff();
-  return t.value;
+  return t;
+}
+
+double StructuralTerm::structure(std::span<const StencilParams> params) {
+  const std::optional<ObjectiveTerms> t = solve(params);
+  return t ? t->value : INFINITY;
 }
 
 double StructuralTerm::evaluate(std::span<const StencilParams> params, Eigen::VectorXd* gradient) {
-  place(params);
-  try {
-    const EquilibriumStats& st = m_shell.equilibrate();
-    if (!st.stable) return INFINITY;
-  } catch (const SolveError&) {
-    return INFINITY;
-  }
-  Eigen::VectorXd W;
-  const ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref, W);
-  m_last_S = t.value;
-  m_last_W_max = W.maxCoeff();
+  if (!m_restored) return INFINITY;
+  const std::optional<ObjectiveTerms> t = solve(params);
+  if (!t) return INFINITY;
   if (gradient) {
-    m_shell.parameter_gradient(t, *gradient);
+    m_shell.parameter_gradient(*t, *gradient);
     *gradient *= m_w_S;
   }
-  return m_w_S * t.value;
+  return m_w_S * t->value;
 }
 
 StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
@@ -222,12 +223,25 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
     throw SolveError("the pattern design's loads do no work (compliance 0): nothing to minimise");
 
   StructuralTerm term(shell, settings.objective, settings.w_S, beta, w_ref, result.c_ref, result.covered_area_target);
-  const double w_P = ctx.settings().w_P;
+  // The pattern term per stencil: S is intensive (a mean over triangles), so P is made one too
+  // and J does not depend on how many stencils or triangles the design has. The admissibility
+  // terms (collision, boundary, tether) keep their pattern-phase strength: they are constraints,
+  // not taste, and must not weaken as the design grows.
+  struct AdmissibilityScale {
+    PatternEnergy& energy;
+    ~AdmissibilityScale() { energy.set_admissibility(1.0); }
+  } restore_scale{ctx.energy()};
+  auto per_stencil = [&](const StencilLayout& l) {
+    const double n = double(std::max<size_t>(1, l.size()));
+    ctx.energy().set_admissibility(n);
+    return ctx.settings().w_P / n;
+  };
   auto joint_value = [&](const StencilLayout& l, double& S, double& P) {
+    const double w = per_stencil(l);
     ctx.energy().rematch(l);
-    P = ctx.energy().evaluate(l);
+    P = w / ctx.settings().w_P * ctx.energy().evaluate(l);
     S = term.structure(layout_params(l));
-    return settings.w_S * S + w_P * P;
+    return settings.w_S * S + ctx.settings().w_P * P;
   };
   result.J_start = joint_value(layout, result.S_start, result.P_start);
   if (!std::isfinite(result.S_start))
@@ -235,7 +249,6 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
 
   PatternPhaseOptions po;
   po.joint = &term;
-  po.w_P = w_P;
   po.max_rotation = settings.max_rotation * M_PI / 180.0;
   po.max_iterations = options.max_iterations >= 0 ? options.max_iterations : settings.max_iterations;
   po.progress = options.progress;
@@ -244,6 +257,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
   const int optimisations = settings.objective == Objective::Adaptive ? settings.max_rounds : 1;
   for (int k = 0; k < optimisations; ++k) {
     result.beta_history.push_back(term.beta());
+    po.w_P = per_stencil(layout);
     optimize_pattern(ctx, layout, po, acc);
     ++result.optimisations;
     // §6.3: fill the holes the optimisation opened, and continue when stencils were added.
@@ -257,6 +271,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
         term.restore(p);
         for (size_t i = 0; i < layout.size(); ++i) layout[i].scale = p[i].scale;
       }
+      po.w_P = per_stencil(layout);
       optimize_pattern(ctx, layout, po, acc);
       ++result.optimisations;
     }

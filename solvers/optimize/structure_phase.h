@@ -26,6 +26,7 @@
 /// After the optimisation the overlaps left by the soft collision penalty are removed by
 /// shrinking (host/pattern/overlaps.h) and the area constraint restored again.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,8 @@ class StructuralTerm final : public JointTerm {
   bool constrained() const { return m_objective == cutwork::StructuralObjective::Compliance; }
   /// Sets the shell's stencils unless they are already the ones of the last restore().
   void place(std::span<const StencilParams> params);
+  /// Equilibrium and objective terms at `params`; nothing without a stable equilibrium.
+  std::optional<ObjectiveTerms> solve(std::span<const StencilParams> params);
 
   StencilledShell& m_shell;
   cutwork::StructuralObjective m_objective;
@@ -74,6 +77,7 @@ class StructuralTerm final : public JointTerm {
   double m_k = 1;
   Eigen::VectorXd m_scales, m_dC;
   std::vector<char> m_frozen;  ///< stencils restore() does not scale (finalize); empty: none
+  bool m_restored = true;      ///< the last restore() reached the constraint
   std::vector<StencilParams> m_placed;
   bool m_placed_valid = false;
   int m_restorations = 0;

@@ -164,6 +164,101 @@ TEST(Cli, DesignWritesTheReportForEveryBuiltinScene) {
   fs::remove_all(dir);
 }
 
+/// The faces and their per-face properties named in an ASCII or binary PLY header.
+std::string ply_header(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::string line, header;
+  while (std::getline(in, line) && line != "end_header") header += line + "\n";
+  return header;
+}
+
+TEST(Cli, DesignRunsThePipelineForEveryBuiltinScene) {
+  // Every built-in scene through both phases (few iterations: this is about the product's
+  // outputs; the optimisation itself is tested in tests/solvers/optimize).
+  const fs::path dir = test::temp_dir("design_full");
+  for (const auto& b : builtin_scenes()) {
+    SCOPED_TRACE(b.name);
+    const fs::path out = dir / b.name;
+    const auto r = run_cutwork("design " + b.name + " --iterations 4 --device cpu --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.out.empty()) << "no progress display when stdout is not a terminal: " << r.out;
+    const auto report = read_json(out / "report.json");
+    for (const char* key : {"scene", "device", "mesh", "stencils", "phases", "structure", "timings", "cut"})
+      EXPECT_TRUE(report.contains(key)) << key;
+    EXPECT_EQ(report["device"]["kind"], "cpu");
+    for (const char* key : {"kind", "name", "driver"}) EXPECT_TRUE(report["device"].contains(key)) << key;
+    const auto& phases = report["phases"];
+    ASSERT_GE(phases.size(), 1u);
+    EXPECT_EQ(phases[0]["name"], "pattern");
+    for (const auto& ph : phases)
+      for (const char* key : {"name", "iterations", "seconds", "J_start", "J_end", "S_start", "S_end", "P_start",
+                              "P_end"})
+        EXPECT_TRUE(ph.contains(key)) << key;
+    const bool has_structure = report["structure"]["objective"] != "none";
+    EXPECT_EQ(phases.size(), has_structure ? 2u : 1u);
+    for (const char* key : {"objective", "beta", "W_max_uncut", "W_max_pattern", "W_max_final", "compliance_pattern",
+                            "compliance_final", "material_fraction_pattern", "material_fraction_final", "overlaps"})
+      EXPECT_TRUE(report["structure"].contains(key)) << key;
+    EXPECT_EQ(report["structure"]["overlaps"], 0);
+    // stencils.json holds the report's stencils.
+    const auto stencils = read_json(out / "stencils.json");
+    EXPECT_EQ(stencils["stencils"].size(), report["stencils"]["count"].get<size_t>());
+    ASSERT_GT(stencils["stencils"].size(), 0u);
+    for (const char* key : {"type", "position", "normal", "tangent", "scale", "angle", "bounding_radius"})
+      EXPECT_TRUE(stencils["stencils"][0].contains(key)) << key;
+    EXPECT_TRUE(stencils["shapes"].is_object());
+    // fields.ply: the simulation mesh with per-face alpha and W.
+    const std::string header = ply_header(out / "fields.ply");
+    EXPECT_NE(header.find("element face " + std::to_string(report["mesh"]["sim_triangles"].get<int>())),
+              std::string::npos) << header;
+    EXPECT_NE(header.find(" alpha"), std::string::npos) << header;
+    EXPECT_NE(header.find(" W"), std::string::npos) << header;
+    // cut.obj: a mesh cutwork itself reads back (valid, manifold, consistently oriented).
+    const auto check = run_cutwork("check " + (out / "cut.obj").string());
+    EXPECT_NE(check.out.find(std::to_string(report["cut"]["triangles"].get<int>()) + " faces"), std::string::npos)
+        << check.out << check.err;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Cli, DesignPhasesPatternWritesThePatternDesign) {
+  const fs::path dir = test::temp_dir("design_pattern");
+  const auto r = run_cutwork("design plate --phases pattern --iterations 10 --quiet --device cpu --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const auto report = read_json(dir / "report.json");
+  ASSERT_EQ(report["phases"].size(), 1u);
+  EXPECT_EQ(report["phases"][0]["name"], "pattern");
+  EXPECT_EQ(report["phases"][0]["iterations"], 10);
+  EXPECT_EQ(report["structure"]["W_max_final"], report["structure"]["W_max_pattern"]);
+  for (const char* f : {"stencils.json", "fields.ply", "cut.obj"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  fs::remove_all(dir);
+}
+
+TEST(Cli, DesignDeviceChoices) {
+  const fs::path dir = test::temp_dir("design_device");
+  // An unknown device is a usage error naming the accepted values.
+  const auto bad = run_cutwork("design plate --device tpu --out " + (dir / "bad").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--device"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad" / "report.json"));
+  // With no Vulkan driver at all, auto falls back to the CPU with one warning line and vulkan
+  // fails with one line (VK_DRIVER_FILES pointing nowhere hides every driver from the loader).
+  const std::string no_driver = "env VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json ";
+  const auto cmd = [&](const std::string& args) {
+    return test::run_shell(no_driver + test::cutwork_binary().string() + " " + args);
+  };
+  const auto a = cmd("design plate --phases pattern --iterations 2 --device auto --out " + (dir / "auto").string());
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(read_json(dir / "auto" / "report.json")["device"]["kind"], "cpu");
+  EXPECT_NE(a.err.find("warning"), std::string::npos) << a.err;
+  const auto v = cmd("design plate --phases pattern --iterations 2 --device vulkan --out " + (dir / "vk").string());
+  EXPECT_EQ(v.exit_code, 2);
+  EXPECT_EQ(count_lines(v.err), 1) << v.err;
+  EXPECT_FALSE(fs::exists(dir / "vk" / "report.json"));
+  fs::remove_all(dir);
+}
+
 TEST(Cli, DesignDefaultsToThePavilion) {
   const fs::path dir = test::temp_dir("default");
   const auto r = run_cutwork("design --quiet --phases none --out " + dir.string());

@@ -93,6 +93,12 @@ TEST(CliSimulate, BadSupportsAndLoadsAreOneLineErrors) {
   doc["loads"][0]["force"] = {0.0, 0.0, -1e6};
   expect_failure_without_output("simulate " + scene_file("overload", doc), dir / "out3", "can carry");
 
+  // 500 N pushing the free end towards the clamp: ~20× the strip's Euler buckling load. Newton
+  // can converge to the flat state, which is an unstable equilibrium: an error, not a result.
+  doc = plate_scene();
+  doc["loads"][0]["force"] = {-500.0, 0.0, 0.0};
+  expect_failure_without_output("simulate " + scene_file("buckling", doc), dir / "out5", "unstable");
+
   expect_failure_without_output("simulate plate --stencils " + (dir / "stencils.json").string(), dir / "out4",
                                 "stencils.json: cannot open");
   fs::remove_all(dir);

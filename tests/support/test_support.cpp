@@ -30,11 +30,14 @@ static std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-CommandResult run_cutwork(const std::string& args) {
+fs::path cutwork_binary() { return fs::path(CUTWORK_BIN_DIR) / "cutwork"; }
+
+CommandResult run_cutwork(const std::string& args) { return run_shell(cutwork_binary().string() + " " + args); }
+
+CommandResult run_shell(const std::string& command) {
   const fs::path dir = temp_dir("cli");
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(CUTWORK_BIN_DIR) + "/cutwork " + args + " >" + out.string() +
-                          " 2>" + err.string() + " </dev/null";
+  const std::string cmd = command + " >" + out.string() + " 2>" + err.string() + " </dev/null";
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

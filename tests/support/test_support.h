@@ -15,7 +15,11 @@ struct CommandResult {
   std::string out;   ///< stdout
   std::string err;   ///< stderr
 };
+/// `<build>/bin/cutwork`.
+std::filesystem::path cutwork_binary();
 /// Runs `<build>/bin/cutwork <args>` through the shell and captures stdout and stderr.
 CommandResult run_cutwork(const std::string& args);
+/// Runs a shell command line (stdin from /dev/null) and captures stdout and stderr.
+CommandResult run_shell(const std::string& command);
 
 }  // namespace cutwork::test

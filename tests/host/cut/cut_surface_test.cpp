@@ -5,11 +5,14 @@
 // vertex, on an edge, across the boundary, overlapping) behave, and threads change nothing.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <map>
@@ -20,6 +23,7 @@
 
 #include "host/core/error.h"
 #include "host/cut/cut_surface.h"
+#include "host/mesh/mesh_io.h"
 #include "host/shapes/shapes.h"
 #include "host/stencil/fill_ratio.h"
 #include "kernels/common/stencil_geometry.h"
@@ -125,6 +129,55 @@ std::vector<StencilParams> random_stencils(const SurfaceMesh& mesh, int count, d
   return out;
 }
 
+/// Face quality: twice the area over the longest edge squared (√3/2 for an equilateral
+/// triangle, 0 for a degenerate one); the worst face of the output.
+double worst_quality(const CutSurface& cut) {
+  double worst = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < cut.faces.rows(); ++f) {
+    const Vec3 a = cut.vertices.row(cut.faces(f, 0)).transpose();
+    const Vec3 b = cut.vertices.row(cut.faces(f, 1)).transpose();
+    const Vec3 c = cut.vertices.row(cut.faces(f, 2)).transpose();
+    const double longest2 =
+        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    worst = std::min(worst, (b - a).cross(c - a).norm() / longest2);
+  }
+  return worst;
+}
+
+/// The worst face quality over all outputs this test binary checked (printed by the tests).
+double& worst_quality_seen() {
+  static double worst = std::numeric_limits<double>::infinity();
+  return worst;
+}
+
+/// No needles or slivers: every face's twice area exceeds 1e-10 × its longest edge squared, a
+/// hundred times the mesh loader's own bound (kZeroAreaRelative = 1e-12).
+void check_quality(const CutSurface& cut) {
+  const double q = worst_quality(cut);
+  worst_quality_seen() = std::min(worst_quality_seen(), q);
+  EXPECT_GT(q, 1e-10) << "a face with twice area <= 1e-10 x longest edge^2";
+}
+
+/// What `cutwork check DIR/cut.obj` does with the file `cutwork design` writes: the OBJ writer,
+/// then the mesh loader (which reads coordinates in single precision) must accept the cut.
+void check_loader_accepts(const CutSurface& cut) {
+  static std::atomic<int> counter{0};
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("cutwork_cut_surface_test_" + std::to_string(::getpid()) + "_" +
+       std::to_string(counter++) + ".obj");
+  write_obj(path, cut.vertices, cut.faces);
+  try {
+    const SurfaceMesh m = read_mesh(path);
+    EXPECT_EQ(m.num_faces(), cut.faces.rows());
+    EXPECT_EQ(m.num_vertices(), cut.vertices.rows()) << "vertices welded in single precision";
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "the mesh loader rejects the written cut: " << e.what();
+  }
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+
 /// Everything test 2 asks of the output mesh. Returns the number of boundary loops.
 int check_mesh(const CutSurface& cut, const SurfaceMesh& base) {
   const int nv = int(cut.vertices.rows()), nf = int(cut.faces.rows());
@@ -208,6 +261,7 @@ int check_mesh(const CutSurface& cut, const SurfaceMesh& base) {
     mesh_loops = int(m.boundary_loops().size());
   });
   EXPECT_EQ(mesh_loops, loops);
+  check_quality(cut);
   return loops;
 }
 
@@ -234,6 +288,7 @@ TEST(CutSurface, PlateAreaEqualsFillAreaAndStencilArea) {
     EXPECT_GT(cut.split_faces, 0);
     EXPECT_GT(cut.removed_faces, 0);
     EXPECT_EQ(cut.kept_faces + cut.split_faces + cut.removed_faces, s.mesh.num_faces());
+    check_quality(cut);
   }
 }
 
@@ -573,7 +628,170 @@ TEST(CutSurface, SameResultWithOneThreadAndAll) {
     EXPECT_EQ(serial.faces, parallel.faces);
     EXPECT_EQ(serial.source_face, parallel.source_face);
     EXPECT_EQ(serial.area, parallel.area);
+    check_mesh(parallel, s.mesh);
   }
+}
+
+// ---- 6. Well-shaped faces: near contacts (the sheet of `cutwork design sheet`) ----------------
+
+Surface* sheet() {
+  static Surface s(generate_shape("sheet", {}, 0.025));
+  return &s;
+}
+
+/// Cuts `stencils` from the sheet and checks the area against the fill kernel (and against the
+/// stencils' own area when they lie on the sheet), the mesh (watertight, `loops` boundary
+/// loops, accepted by SurfaceMesh) and the face quality.
+void cut_sheet(const std::vector<StencilParams>& stencils, int loops, bool on_sheet) {
+  const Surface& s = *sheet();
+  const CutSurface cut = cut_stencils(s.bvh, library(), field(), stencils);
+  const double fill = fill_area(s, stencils);
+  const double removed = s.mesh.face_areas().sum() - cut.area;
+  EXPECT_LT(relative_error(cut.area, fill), 1e-9);
+  if (on_sheet) {
+    EXPECT_LT(relative_error(removed, stencil_area(stencils)), 1e-9);
+  }
+  std::printf("[ sheet ] |area - fill| / fill = %.2e, |removed - sum s^2 A| / sum = %.2e, "
+              "worst quality %.2e\n",
+              relative_error(cut.area, fill), relative_error(removed, stencil_area(stencils)),
+              worst_quality(cut));
+  EXPECT_EQ(check_mesh(cut, s.mesh), loops);
+}
+
+TEST(CutSurface, SheetCutsPassTheMeshValidation) {
+  // One circle of scale 0.2 (the scene's): at the centre, on a vertex, at random places. Each
+  // cut is well shaped and a valid SurfaceMesh (check_mesh).
+  const Surface& s = *sheet();
+  for (double angle : {0.0, 0.3}) {
+    SCOPED_TRACE(::testing::Message() << "angle " << angle);
+    cut_sheet({stencil_at(Vec3::Zero(), 0.2, 0, angle)}, 2, true);
+    const Vec3 vertex =
+        s.mesh.vertices().row(nearest_vertex(s.mesh, Vec3(0.1, 0.05, 0))).transpose();
+    cut_sheet({stencil_at(vertex, 0.2, 0, angle)}, 2, true);
+  }
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> place(-0.29, 0.29), angle(-3.2, 3.2);
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 c(place(rng), place(rng), 0.0);
+    SCOPED_TRACE(::testing::Message() << "random centre " << c.transpose());
+    cut_sheet({stencil_at(c, 0.2, 0, angle(rng))}, 2, true);
+  }
+}
+
+TEST(CutSurface, OutlineNearlyTouchingAMeshEdge) {
+  // Polygon vertices a hair's breadth from a mesh edge's line are where needles come from. The
+  // sheet's lattice has horizontal rows of edges: put the circle's top vertex (angle 0: vertex
+  // 16 of 64 points straight up) a distance δ × the mean edge length below or above a row.
+  const Surface& s = *sheet();
+  const double h = s.mesh.mean_edge_length();
+  const int v = nearest_vertex(s.mesh, Vec3(0.05, 0.1, 0));
+  const double row = s.mesh.vertices()(v, 1);
+  const double r = 0.2;
+  const double top = library()[0].polygon[16].y();
+  for (double delta : {1e-7, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13}) {
+    for (double sign : {-1.0, 1.0}) {
+      SCOPED_TRACE(::testing::Message() << "row, delta " << sign * delta << " h");
+      const Vec3 c(0.05 + 0.3 * h, row - r * top + sign * delta * h, 0);
+      cut_sheet({stencil_at(c, r, 0, 0.0)}, 2, true);
+    }
+  }
+}
+
+TEST(CutSurface, TwoOutlinesNearlyTouchingInsideAFace) {
+  // Two circles a hair's breadth apart, touching in a face's interior: a polygon vertex of one
+  // close to a polygon vertex of the other (the second turned by π), or close to the middle of
+  // one of its edges (turned by π + half a step).
+  const Surface& s = *plate();
+  const SurfaceMesh& m = s.mesh;
+  const int f = m.num_faces() / 2 + 7;
+  const Vec3 touch = (m.vertices().row(m.faces()(f, 0)) + m.vertices().row(m.faces()(f, 1)) +
+                      m.vertices().row(m.faces()(f, 2)))
+                         .transpose() /
+                     3.0;
+  const double r = 0.01;
+  const auto& circle = library()[0].polygon;
+  const double step = 2.0 * M_PI / double(circle.size());
+  for (double turn : {0.0, 0.5 * step}) {
+    // Distance from the second circle's centre to its outline towards the first.
+    const double reach =
+        r * circle[0].norm() * (turn == 0.0 ? 1.0 : std::cos(0.5 * step));
+    for (double gap : {1e-8, 1e-10, 1e-11, 1e-12, 1e-14, 0.0, -1e-12}) {
+      SCOPED_TRACE(::testing::Message() << "turn " << turn << " gap " << gap);
+      const Vec3 c1 = touch - Vec3(r * circle[0].x(), 0, 0);
+      const Vec3 c2 = touch + Vec3(gap + reach, 0, 0);
+      const std::vector<StencilParams> two{stencil_at(c1, r, 0, 0.0),
+                                           stencil_at(c2, r, 0, M_PI + turn)};
+      const CutSurface cut = cut_stencils(s.bvh, library(), field(), two);
+      EXPECT_LT(relative_error(cut.area, fill_area(s, two)), 1e-9);
+      std::printf("[ touching ] turn %.3f gap %8.1e: |area - fill| / fill = %.2e, "
+                  "worst quality %.2e\n",
+                  turn, gap, relative_error(cut.area, fill_area(s, two)), worst_quality(cut));
+      EXPECT_NO_THROW({ const SurfaceMesh mm(cut.vertices, cut.faces, "cut"); });
+      check_quality(cut);
+    }
+  }
+}
+
+/// The circle `cutwork design sheet --iterations 4` placed: it touches the fixed border x = 0.5
+/// from inside, its rightmost vertex 2.6e-10 m (1.2e-8 of the border edge) inside the sheet.
+constexpr double kDesignX = 0.24122221006414024, kDesignY = -0.24022975684563114;
+constexpr double kDesignScale = 0.258777789677082;
+
+TEST(CutSurface, OutlineTouchingTheBorder) {
+  // The design's circle, and the same with its vertex `gap` m inside the border (negative:
+  // outside). Within δ = 1e-9 × the longest mesh edge (~3e-11 m here) the vertex lies on the
+  // border and the hole touches it in that vertex (one boundary loop through it twice); farther
+  // in, the hole is separate; outside, the hole opens into the border.
+  const Surface& s = *sheet();
+  struct Case {
+    double gap;
+    int loops;  // 0: the hole touches the border
+  };
+  const double design_gap = 0.5 - (kDesignX + kDesignScale * library()[0].polygon[0].x());
+  for (const Case& c : {Case{design_gap, 2}, Case{1e-6, 2}, Case{1e-8, 2}, Case{1e-9, 2},
+                        Case{1e-10, 2}, Case{1e-11, 0}, Case{1e-13, 0}, Case{0.0, 0},
+                        Case{-1e-13, 0}, Case{-1e-11, 0}, Case{-1e-9, 1}}) {
+    SCOPED_TRACE(::testing::Message() << "gap " << c.gap << " m");
+    const double x = 0.5 - c.gap - kDesignScale * library()[0].polygon[0].x();
+    const std::vector<StencilParams> one{stencil_at(Vec3(x, kDesignY, 0), kDesignScale, 0, 0.0)};
+    const CutSurface cut = cut_stencils(s.bvh, library(), field(), one);
+    const double fill = fill_area(s, one);
+    EXPECT_LT(relative_error(cut.area, fill), 1e-9);
+    std::printf("[ border ] gap %9.2e m: |area - fill| / fill = %.2e, worst quality %.2e\n", c.gap,
+                relative_error(cut.area, fill), worst_quality(cut));
+    if (c.loops == 0) {  // touching: one vertex is on both boundaries
+      EXPECT_NO_THROW({
+        const SurfaceMesh m(cut.vertices, cut.faces, "cut");
+        EXPECT_EQ(m.boundary_loops().size(), 1u);
+      });
+      check_quality(cut);
+    } else {
+      EXPECT_EQ(check_mesh(cut, s.mesh), c.loops);
+    }
+  }
+}
+
+// Known limitation, not a test of this module: the mesh loader reads OBJ coordinates in single
+// precision (assimp's ai_real is float here), so `cutwork check cut.obj` rejects a face whose
+// width is below ~1e-7 × the largest coordinate although the cut is valid in double precision
+// (design case above: twice area / longest² = 1.2e-8). Snapping at that scale would move the
+// outline by up to ~1e-7 m and break the 1e-9 agreement with the fill kernel; run with
+// --gtest_also_run_disabled_tests to see the single-precision round trip fail.
+TEST(CutSurface, WrittenCutSurvivesTheSinglePrecisionLoader) {
+  const std::vector<StencilParams> one{
+      stencil_at(Vec3(kDesignX, kDesignY, 0), kDesignScale, 0, 0.0)};
+  check_loader_accepts(cut_stencils(sheet()->bvh, library(), field(), one));
+  const Surface& b = *bowl();
+  const double h = b.mesh.mean_edge_length();
+  check_loader_accepts(
+      cut_stencils(b.bvh, library(), field(), random_stencils(b.mesh, 60, 0.3 * h, 3 * h, 5)));
+}
+
+TEST(CutSurface, WorstFaceQuality) {
+  // Runs last (declaration order): the worst face over every output checked above.
+  std::printf("[ quality ] worst twice-area / longest^2 over all checked outputs: %.3e\n",
+              worst_quality_seen());
+  EXPECT_GT(worst_quality_seen(), 1e-10);
 }
 
 }  // namespace

@@ -32,9 +32,15 @@ TEST(SizingField, BrushesPaintAbsoluteValuesSmoothly) {
     const Vec3 x = mesh.vertices().row(v).transpose();
     const double d1 = (x - ps.brushes[0].center).norm(), d2 = (x - ps.brushes[1].center).norm();
     const double val = f.vertex_values()[v];
-    if (d1 <= 0.02) EXPECT_DOUBLE_EQ(val, 2.0);          // inner half: the brush's value
-    if (d2 <= 0.015) EXPECT_DOUBLE_EQ(val, 0.5);
-    if (d1 >= 0.04 && d2 >= 0.03) EXPECT_DOUBLE_EQ(val, 1.0);  // outside: untouched
+    if (d1 <= 0.02) {
+      EXPECT_DOUBLE_EQ(val, 2.0);  // inner half: the brush's value
+    }
+    if (d2 <= 0.015) {
+      EXPECT_DOUBLE_EQ(val, 0.5);
+    }
+    if (d1 >= 0.04 && d2 >= 0.03) {
+      EXPECT_DOUBLE_EQ(val, 1.0);  // outside: untouched
+    }
     EXPECT_GE(val, 0.5);
     EXPECT_LE(val, 2.0);
   }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "host/core/error.h"
@@ -41,6 +42,16 @@ void expect_same_surface(const SurfaceMesh& read, const RowMatX3d& vertices, con
 
 RowMatX3d float_rounded(const RowMatX3d& v) { return v.cast<float>().cast<double>(); }
 
+/// Bit for bit (== would let -0 pass for +0).
+void expect_same_bits(const RowMatX3d& read, const RowMatX3d& expected) {
+  ASSERT_EQ(read.rows(), expected.rows());
+  for (int v = 0; v < read.rows(); ++v)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(read(v, c)), std::bit_cast<std::uint64_t>(expected(v, c)))
+          << "vertex " << v << " coordinate " << c << ": read " << read(v, c) << ", written "
+          << expected(v, c);
+}
+
 void expect_tetrahedron(const SurfaceMesh& m) {
   const auto t = test::tetrahedron();
   EXPECT_EQ(m.num_vertices(), 4);
@@ -58,14 +69,31 @@ TEST(ReadMesh, EveryTextFormat) {
 }
 
 TEST(ReadMesh, PolygonsAreTriangulatedAndGroupsWelded) {
-  const SurfaceMesh m = read_mesh(meshes() / "quad_strip.obj");
-  EXPECT_EQ(m.num_faces(), 4);
-  EXPECT_EQ(m.num_vertices(), 6);
-  EXPECT_EQ(m.num_components(), 1);
-  EXPECT_EQ(m.boundary_loops().size(), 1u);
-  EXPECT_EQ(m.euler_characteristic(), 1);
-  EXPECT_DOUBLE_EQ(m.face_areas().sum(), 2.0);
-  for (int f = 0; f < 4; ++f) EXPECT_DOUBLE_EQ(m.face_normals()(f, 2), 1.0);
+  // quad_strip_relative.obj repeats the shared vertices in each object and uses relative indices.
+  for (const char* name : {"quad_strip.obj", "quad_strip_relative.obj"}) {
+    SCOPED_TRACE(name);
+    const SurfaceMesh m = read_mesh(meshes() / name);
+    EXPECT_EQ(m.num_faces(), 4);
+    EXPECT_EQ(m.num_vertices(), 6);
+    EXPECT_EQ(m.num_components(), 1);
+    EXPECT_EQ(m.boundary_loops().size(), 1u);
+    EXPECT_EQ(m.euler_characteristic(), 1);
+    EXPECT_DOUBLE_EQ(m.face_areas().sum(), 2.0);
+    for (int f = 0; f < 4; ++f) EXPECT_DOUBLE_EQ(m.face_normals()(f, 2), 1.0);
+  }
+}
+
+TEST(ReadMesh, ObjSyntaxVariants) {
+  // A UTF-8 byte order mark, CRLF and lone CR line ends, comments, blank lines, a leading '+',
+  // exponents, extra vertex values (w, colour), v/vt/vn corners, relative indices, groups,
+  // objects, smoothing groups, materials (the .mtl is never opened) and unknown statements.
+  const fs::path dir = test::temp_dir("mesh-io-obj-syntax");
+  spit(dir / "tet.obj",
+       "\xEF\xBB\xBFv 0 0 0\r\n# header\r\n\r\nmtllib missing.mtl\r\n  v\t+1 0 0 1\r\n"
+       "v 0 1e0 0 0.5 0.5 0.5\rv 0 0 10e-1\r\nvt 0 0\nvn 0 0 1\n"
+       "o solid\ng a b\ns off\nusemtl none\nf 1/1/1 3/1/1 2/1/1\nf 1//1 2//1 4//1\n"
+       "g c\nf -3/-1 -2/-1 -1/-1\ncstype bezier\nf 1 4 3  \n");
+  expect_tetrahedron(read_mesh(dir / "tet.obj"));
 }
 
 std::string binary_stl(const RowMatX3d& v, const RowMatX3i& f, std::uint32_t declared) {
@@ -128,24 +156,30 @@ TEST(ReadMesh, BinaryPlyBothEndiannesses) {
   }
 }
 
-TEST(WriteObj, RoundTripKeepsFloatExactPositionsAndFaces) {
+TEST(WriteObj, RoundTripKeepsPositionsAndFaces) {
   const fs::path dir = test::temp_dir("mesh-io-obj");
-  auto t = test::bumpy_grid(12);
-  t.vertices = float_rounded(t.vertices);  // assimp reads in single precision
+  const auto t = test::bumpy_grid(12);
   write_obj(dir / "grid.obj", t.vertices, t.faces);
   const SurfaceMesh m = read_mesh(dir / "grid.obj");
-  EXPECT_EQ(m.num_vertices(), t.vertices.rows());
-  expect_same_surface(m, t.vertices, t.faces);
+  // Every vertex is used and distinct: the numbering survives too.
+  expect_same_bits(m.vertices(), t.vertices);
+  EXPECT_EQ(m.faces(), t.faces);
   // No temporary left beside the output.
   int files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 1);
 }
 
-TEST(WriteObj, DoublePositionsComeBackRoundedToFloat) {
-  // Documented limitation: assimp stores coordinates as float.
+TEST(WriteObj, DoublePositionsRoundTripExactly) {
+  // OBJ is read in double precision, with a correctly rounded parser: every double that
+  // write_obj writes (17 significant digits) comes back bit for bit.
   const fs::path dir = test::temp_dir("mesh-io-obj-double");
-  const auto t = test::icosphere(1);
+  auto t = test::icosphere(1);
+  // Off the float grid: a third of the unit sphere, moved; one vertex nudged far below float
+  // resolution.
+  t.vertices = (t.vertices / 3.0).rowwise() + Eigen::RowVector3d(1e3 / 7.0, -2.0 / 3.0, 1e-5 / 3.0);
+  t.vertices(0, 0) += 3e-10;
+  ASSERT_NE(float_rounded(t.vertices), t.vertices);
   write_obj(dir / "sphere.obj", t.vertices, t.faces);
   // The text itself holds the doubles exactly (17 significant digits).
   std::istringstream text(slurp(dir / "sphere.obj"));
@@ -159,7 +193,20 @@ TEST(WriteObj, DoublePositionsComeBackRoundedToFloat) {
     ++v;
   }
   EXPECT_EQ(v, t.vertices.rows());
-  expect_same_surface(read_mesh(dir / "sphere.obj"), float_rounded(t.vertices), t.faces);
+  const SurfaceMesh m = read_mesh(dir / "sphere.obj");
+  expect_same_bits(m.vertices(), t.vertices);
+  EXPECT_EQ(m.faces(), t.faces);
+
+  // Values that need all 17 digits, a subnormal, a negative zero, large and tiny magnitudes.
+  RowMatX3d special(3, 3);
+  special << 5e-324, -0.0, 0.1 + 0.2,  //
+      1.0 / 3.0, 1e-300, -2.5e-17,     //
+      -0.0, 1.0 - 0x1p-53, 123456789.12345679;
+  const RowMatX3i triangle = (RowMatX3i(1, 3) << 0, 1, 2).finished();
+  write_obj(dir / "special.obj", special, triangle);
+  const SurfaceMesh s = read_mesh(dir / "special.obj");
+  expect_same_bits(s.vertices(), special);
+  EXPECT_EQ(s.faces(), triangle);
 }
 
 TEST(WriteObj, RejectsBadIndicesAndUnwritablePaths) {
@@ -278,6 +325,21 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"line_element.obj",
                 "face 0 has 2 vertices: point and line elements are not supported, only triangle "
                 "and polygon faces"},
+        BadFile{"point_element.obj",
+                "face 1 has 1 vertices: point and line elements are not supported, only triangle "
+                "and polygon faces"},
+        BadFile{"negative_out_of_range.obj", "cannot be parsed: OBJ: vertex index out of range"},
+        BadFile{"index_overflow.obj", "cannot be parsed: OBJ: vertex index out of range"},
+        BadFile{"zero_index.obj",
+                "cannot be parsed: OBJ line 5: face corner '0' has vertex index 0 (OBJ counts from 1)"},
+        BadFile{"garbage_index.obj", "cannot be parsed: OBJ line 5: face corner '3x' is not a vertex index"},
+        BadFile{"bad_coordinate.obj", "cannot be parsed: OBJ line 3: vertex coordinate 'zero' is not a number"},
+        BadFile{"missing_coordinate.obj",
+                "cannot be parsed: OBJ line 3: vertex has 2 coordinates, expected 3"},
+        BadFile{"concave_quad.obj",
+                "face 0 has 4 vertices and could not be triangulated (concave, self-intersecting or "
+                "degenerate polygon?)"},
+        BadFile{"garbage.obj", "no faces"},
         BadFile{"garbage.ply",
                 "cannot be parsed: Invalid .ply file: Incorrect magic number (expected 'ply' or 'PLY')."},
         BadFile{"mesh.xyz", "unknown mesh format '.xyz' (expected .obj, .ply, .off or .stl)"},
@@ -316,6 +378,41 @@ TEST(ReadMesh, DirectoryAndUnreadableFile) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "folder.obj").string() + ": is a directory, not a mesh file");
   }
+}
+
+TEST(ReadMesh, MalformedObjIsAnInputError) {
+  // Random edits of valid OBJ text (and random bytes): each result loads or is an InputError.
+  const fs::path dir = test::temp_dir("mesh-io-obj-mutants");
+  const std::string seeds[] = {
+      slurp(meshes() / "tetrahedron.obj"), slurp(meshes() / "quad_strip_relative.obj"),
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nf 1 2 3 4\nf -5/1 -4/1 -1/1\nl 1 2\n"};
+  const char alphabet[] = "0123456789 -+./\n\r\tvflpog#e";
+  std::mt19937 rng(11);
+  int loaded = 0;
+  for (int it = 0; it < 3000; ++it) {
+    std::string s = seeds[it % 3];
+    for (int edits = 1 + int(rng() % 6); edits > 0; --edits) {
+      const std::size_t pos = rng() % (s.size() + 1);
+      const char c = rng() % 8 == 0 ? char(rng() % 256) : alphabet[rng() % (sizeof alphabet - 1)];
+      switch (rng() % 3) {
+        case 0: s.insert(pos, 1, c); break;
+        case 1: if (pos < s.size()) s.erase(pos, 1 + rng() % 3); break;
+        default: if (pos < s.size()) s[pos] = c;
+      }
+    }
+    if (it % 100 == 0)
+      for (char& c : s) c = char(rng() % 256);
+    spit(dir / "mutant.obj", s);
+    try {
+      read_mesh(dir / "mutant.obj");
+      ++loaded;
+    } catch (const InputError& e) {
+      ASSERT_EQ(std::string(e.what()).rfind((dir / "mutant.obj").string() + ": ", 0), 0u) << e.what();
+    } catch (const std::exception& e) {
+      FAIL() << "not an InputError: " << e.what() << "\n" << s;
+    }
+  }
+  EXPECT_GT(loaded, 0);
 }
 
 TEST(ReadMesh, TruncatedBinaryStlIsRejected) {

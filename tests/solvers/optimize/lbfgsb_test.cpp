@@ -122,5 +122,22 @@ TEST(Lbfgsb, BadArguments) {
                std::invalid_argument);
 }
 
+TEST(Lbfgsb, NonFiniteStartReturnsTheStartUnchanged) {
+  // A start where the objective has no value (the joint optimiser: no stable equilibrium there)
+  // is reported, not thrown through the caller.
+  auto f = [](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    g = x;
+    return x[0] > 0.5 ? INFINITY : 0.5 * x.squaredNorm();
+  };
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Ones(2);
+  const Eigen::VectorXd lb = Eigen::VectorXd::Constant(2, -10), ub = Eigen::VectorXd::Constant(2, 10);
+  const LbfgsbResult r = minimize_lbfgsb(f, x0, lb, ub);
+  EXPECT_EQ(r.x, x0);
+  EXPECT_FALSE(std::isfinite(r.f));
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.stop_reason, "non-finite objective at the start");
+}
+
 }  // namespace
 }  // namespace cutwork

@@ -3,6 +3,7 @@
 // reproducing the stripes and regular-circles exemplars on a flat plate, determinism, and
 // stencils.json.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <map>
@@ -313,7 +314,12 @@ TEST(PatternPhase, DeterministicBitForBit) {
     PatternPhaseOptions o;
     o.max_iterations = 60;
     const PatternPhaseResult a = run_pattern_phase(scene, meshes, o);
-    const PatternPhaseResult b = run_pattern_phase(scene, meshes, o);
+    // The same with one thread: DET matching and the fill ratios run in parallel, and must not
+    // depend on the schedule.
+    const PatternPhaseResult b = [&] {
+      const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      return run_pattern_phase(scene, meshes, o);
+    }();
     ASSERT_EQ(a.layout.size(), b.layout.size()) << name;
     for (size_t i = 0; i < a.layout.size(); ++i) {
       EXPECT_EQ(a.layout[i].position, b.layout[i].position);

@@ -63,7 +63,9 @@ void check_joint_gradient(const char* objective, unsigned seed) {
   const double J0 = J(p0, &g);
   ASSERT_TRUE(std::isfinite(J0));
   ASSERT_EQ(g.size(), 5 * S);
-  if (std::string(objective) == "energy_density") EXPECT_GT(term.last_structure(), 0);
+  if (std::string(objective) == "energy_density") {
+    EXPECT_GT(term.last_structure(), 0);  // some triangles above β: S is not trivially 0
+  }
 
   std::mt19937 gen(seed);
   std::normal_distribution<double> n01;
@@ -115,7 +117,8 @@ TEST(StructurePhase, PlateStabilityLowersPeakEnergyDensityByAQuarter) {
   EXPECT_EQ(r.final_design.overlaps.pairs, 0);
   EXPECT_EQ(r.final_design.overlaps.boundary, 0);
   EXPECT_LT(r.structure->S_end, r.structure->S_start);
-  EXPECT_EQ(r.layout.size(), r.pattern.layout.size());
+  // Stencils squeezed below their scale bound by the overlap resolution are removed: a few.
+  EXPECT_GE(r.layout.size(), r.pattern.layout.size() * 98 / 100);
 }
 
 TEST(StructurePhase, PlateComplianceDropsAtEqualMaterial) {
