@@ -159,7 +159,7 @@ void check_quality(const CutSurface& cut) {
 }
 
 /// What `cutwork check DIR/cut.obj` does with the file `cutwork design` writes: the OBJ writer,
-/// then the mesh loader (which reads coordinates in single precision) must accept the cut.
+/// then the mesh loader (OBJ in double precision) must accept the cut.
 void check_loader_accepts(const CutSurface& cut) {
   static std::atomic<int> counter{0};
   const std::filesystem::path path =
