@@ -224,6 +224,10 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
   const Eigen::VectorXd load = model.gather_free(forces);
   if (!load.allFinite()) throw SolveError("the loads are not finite");
   m_stats.load_norm = load.norm();
+  if (!std::isfinite(m_stats.load_norm))
+    throw SolveError(fmt::format("the loads are too large to compute with: the norm of the load vector "
+                                 "overflows double precision (largest component {:.3g} N)",
+                                 load.lpNorm<Eigen::Infinity>()));
   if (!(m_stats.load_norm > 0))
     throw SolveError("the load case applies no load to the free part of the shell: add a load");
 

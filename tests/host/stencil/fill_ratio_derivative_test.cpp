@@ -11,20 +11,10 @@
 #include "host/shapes/shapes.h"
 #include "host/stencil/fill_ratio.h"
 #include "tests/host/stencil/fd_check.h"
+#include "tests/host/stencil/stencil_fixtures.h"
 
 namespace cutwork {
 namespace {
-
-StencilLibrary mixed_library() {
-  StencilLibrary lib;
-  lib.add(make_builtin_stencil("circle", {}, "circle"));
-  lib.add(make_builtin_stencil("star", {{"points", 6}}, "star"));
-  lib.add(make_builtin_stencil("flower", {{"petals", 5}}, "flower"));
-  lib.add(make_builtin_stencil("leaf", {}, "leaf"));
-  lib.add(make_builtin_stencil("apple", {}, "apple"));
-  lib.add(make_builtin_stencil("heart", {}, "heart"));
-  return lib;
-}
 
 /// Stencils at random points inside random faces (barycentrics ≥ 0.1, so the centre's face is
 /// stable under the finite-difference steps), away from the tangent field's switch.
@@ -55,7 +45,7 @@ std::vector<StencilParams> random_stencils(const FaceBvh& bvh, int n, double smi
 
 void run_derivative_check(const SurfaceMesh& mesh, double smin, double smax, unsigned seed0) {
   const FaceBvh bvh(mesh);
-  const StencilLibrary lib = mixed_library();
+  const StencilLibrary lib = test::mixed_library();
   int checked = 0, total = 0;
   double worst = 0;
   for (unsigned seed = seed0; seed < seed0 + 3; ++seed) {
@@ -93,7 +83,7 @@ TEST(FillRatioRobustness, CentredOnVerticesAndEdgesOfCurvedMeshes) {
   for (const char* shape : {"bowl", "pavilion"}) {
     const SurfaceMesh mesh = generate_shape(shape, {}, std::string(shape) == "bowl" ? 0.01 : 0.2);
     const FaceBvh bvh(mesh);
-    const StencilLibrary lib = mixed_library();
+    const StencilLibrary lib = test::mixed_library();
     const double s = 3 * mesh.mean_edge_length();
     std::mt19937 rng(3);
     std::uniform_int_distribution<int> vertex(0, mesh.num_vertices() - 1), edge(0, mesh.num_edges() - 1);
@@ -126,7 +116,7 @@ TEST(FillRatioRobustness, CentredOnVerticesAndEdgesOfCurvedMeshes) {
 TEST(FillRatioRobustness, StencilsLargerThanTheShapeAndAcrossItsBoundary) {
   const SurfaceMesh mesh = generate_shape("bowl", {}, 0.01);
   const FaceBvh bvh(mesh);
-  const StencilLibrary lib = mixed_library();
+  const StencilLibrary lib = test::mixed_library();
   FillRatioEvaluator ev(bvh, lib);
   // One stencil bigger than the whole bowl, centred at its bottom: the walls seen edge-on or
   // from behind contribute nothing, nothing breaks.
@@ -161,7 +151,7 @@ TEST(FillRatioRobustness, StencilsLargerThanTheShapeAndAcrossItsBoundary) {
 TEST(FillRatioDerivatives, ReferenceAndTbbBackendsAgreeBitForBit) {
   const SurfaceMesh mesh = generate_shape("pavilion", {}, 0.1);
   const FaceBvh bvh(mesh);
-  const StencilLibrary lib = mixed_library();
+  const StencilLibrary lib = test::mixed_library();
   const auto stencils = random_stencils(bvh, 300, 0.1, 0.5, lib.size(), 7);
   FillRatioOptions ref_opt, tbb_opt;
   ref_opt.backend = FillBackend::Reference;

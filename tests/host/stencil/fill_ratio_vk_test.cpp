@@ -21,22 +21,12 @@
 #include "host/vulkan/context.h"
 #include "kernels/clip/clip.h"
 #include "kernels/fill/fill.h"
+#include "tests/host/stencil/stencil_fixtures.h"
 #include "tests/host/vulkan/vk_test_support.h"
 #include "tests/kernels/clip/clip_vk_parity.h"
 
 namespace cutwork::test {
 namespace {
-
-StencilLibrary mixed_library() {
-  StencilLibrary lib;
-  lib.add(make_builtin_stencil("circle", {}, "circle"));
-  lib.add(make_builtin_stencil("star", {{"points", 6}}, "star"));
-  lib.add(make_builtin_stencil("flower", {{"petals", 5}}, "flower"));
-  lib.add(make_builtin_stencil("leaf", {}, "leaf"));
-  lib.add(make_builtin_stencil("apple", {}, "apple"));
-  lib.add(make_builtin_stencil("heart", {}, "heart"));
-  return lib;
-}
 
 /// Stencils at random points inside random faces, scales uniform in [smin, smax], random
 /// angles, types cycling through the library (as in fill_ratio_derivative_test.cpp).

@@ -5,8 +5,22 @@
 #include <vector>
 
 #include "host/mesh/surface_mesh.h"
+#include "host/stencil/stencil_shape.h"
 
 namespace cutwork::test {
+
+/// One of every built-in kind the derivative and parity tests mix: convex (circle) and
+/// non-convex (star, flower, leaf, apple, heart) outlines, types 0..5 in this order.
+inline StencilLibrary mixed_library() {
+  StencilLibrary lib;
+  lib.add(make_builtin_stencil("circle", {}, "circle"));
+  lib.add(make_builtin_stencil("star", {{"points", 6}}, "star"));
+  lib.add(make_builtin_stencil("flower", {{"petals", 5}}, "flower"));
+  lib.add(make_builtin_stencil("leaf", {}, "leaf"));
+  lib.add(make_builtin_stencil("apple", {}, "apple"));
+  lib.add(make_builtin_stencil("heart", {}, "heart"));
+  return lib;
+}
 
 /// Regular grid of n×n square cells of size h over [0, n h]² in the plane z = 0, each cell
 /// split along its (i, j)–(i+1, j+1) diagonal into a lower-right and an upper-left triangle

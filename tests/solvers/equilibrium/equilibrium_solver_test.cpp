@@ -157,6 +157,14 @@ TEST(EquilibriumBadInput, ZeroAndNonFiniteLoadsAreRejected) {
   alpha[3] = std::nan("");
   EXPECT_THROW(solver.solve(alpha), InputError);
   EXPECT_THROW(solver.solve(Eigen::VectorXd::Ones(2)), InputError);
+
+  // Finite loads whose norm overflows double precision cannot be solved for; say so rather than
+  // report a NaN residual.
+  lc = plate.lc;
+  lc.forces(plate.centre, 2) = -1e300;
+  const ShellModel huge(plate.mesh, pa12(), lc);
+  EquilibriumSolver huge_solver(huge);
+  expect_solve_error([&] { huge_solver.solve(Eigen::VectorXd::Ones(huge.num_faces())); }, "too large");
 }
 
 TEST(EquilibriumBadInput, LoadBeyondCapacityKeepsTheLastValidState) {
