@@ -43,6 +43,7 @@ json state_json(const solvers::DesignState& d) {
           {"newton_iterations", d.stats.newton_iterations},
           {"residual", d.stats.residual},
           {"converged", d.stats.converged},
+          {"stop", d.stats.stop},
           {"stable", d.stats.stable}};
 }
 

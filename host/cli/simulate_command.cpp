@@ -118,6 +118,7 @@ void run_simulate(const SimulateOptions& opts) {
       {"newton_iterations", stats.newton_iterations},
       {"residual", stats.residual},
       {"converged", stats.converged},
+      {"stop", stats.stop},
       {"stable", stats.stable},
       {"load_norm", stats.load_norm},
       {"factorizations", stats.factorizations},

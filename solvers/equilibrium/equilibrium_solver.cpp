@@ -105,8 +105,9 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
 
   // Every iteration factorises the Hessian at the current iterate before testing convergence, so
   // that when it stops, the factor in m_cholmod is the one of the converged Hessian (for the adjoint).
-  auto converge = [&](double shift) {
+  auto converge = [&](double shift, const char* stop) {
     m_stats.converged = true;
+    m_stats.stop = stop;
     m_stats.stable = shift == 0;
     m_factor_at_solution = m_stats.stable;
     if (!m_stats.stable)
@@ -130,7 +131,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
       throw SolveError(
           "the model is not supported: its stiffness at rest is singular, so a mechanism or rigid "
           "motion is not held by the supports (add or clamp supports)");
-    if (rel <= m_settings.residual_tolerance) return converge(shift);
+    if (rel <= m_settings.residual_tolerance) return converge(shift, "residual");
     if (iteration >= m_settings.max_iterations)
       throw SolveError(fmt::format(
           "Newton's method did not converge in {} iterations (force residual {:.2e} of the load); the "
@@ -149,7 +150,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     const double umax = (x - rest).lpNorm<Eigen::Infinity>();
     if (shift == 0 &&
         direction.lpNorm<Eigen::Infinity>() <= std::max(kNegligibleStep * umax, kCoordinateRoundoff * size))
-      return converge(shift);
+      return converge(shift, "negligible_step");
 
     double slope = residual.dot(direction);
     if (!(slope < 0)) {
@@ -197,7 +198,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     if (!accepted) {
       if (rel <= kRoundoffResidual) {
         log(fmt::format("Newton stopped at round-off level (force residual {:.2e} of the load)", rel));
-        return converge(shift);
+        return converge(shift, "roundoff");
       }
       throw SolveError(fmt::format(
           "Newton's line search could not reduce the potential energy (force residual {:.2e} of the "

@@ -60,6 +60,10 @@ struct EquilibriumStats {
   bool warm_started = false;
   bool cold_restarted = false;
   bool stable = true;               ///< the converged Hessian is positive definite
+  /// Why Newton stopped when it converged: "residual" (‖∇Π‖/‖f_ext‖ ≤ residual_tolerance),
+  /// "negligible_step" (the Newton step is at the round-off of the displacement) or "roundoff"
+  /// (the line search stalls in round-off with the residual ≤ 1e-5); empty when it did not.
+  std::string stop;
   double assembly_seconds = 0;
   double factorization_seconds = 0;
   double solve_seconds = 0;

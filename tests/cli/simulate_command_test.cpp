@@ -51,9 +51,11 @@ TEST(CliSimulate, WritesReportAndFieldsForTheBuiltinScenes) {
     EXPECT_EQ(report["scene"], scene);
     const auto& eq = report["equilibrium"];
     for (const char* key : {"max_displacement", "strain_energy", "compliance", "W_max", "newton_iterations",
-                            "residual", "converged"})
+                            "residual", "converged", "stop"})
       EXPECT_TRUE(eq.contains(key)) << key;
     EXPECT_TRUE(eq["converged"].get<bool>());
+    EXPECT_TRUE(eq["stop"] == "residual" || eq["stop"] == "negligible_step" || eq["stop"] == "roundoff")
+        << eq["stop"];
     EXPECT_GT(eq["max_displacement"].get<double>(), 0.0);
     EXPECT_GT(eq["strain_energy"].get<double>(), 0.0);
     EXPECT_GT(eq["compliance"].get<double>(), 0.0);

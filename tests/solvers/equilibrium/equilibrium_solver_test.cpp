@@ -67,6 +67,7 @@ TEST(Equilibrium, ConvergesQuadraticallyAndWarmStarts) {
   EXPECT_TRUE(cold.converged);
   EXPECT_FALSE(cold.warm_started);
   EXPECT_LE(cold.residual, solver.settings().residual_tolerance);
+  EXPECT_EQ(cold.stop, "residual");
   EXPECT_GE(cold.newton_iterations, 2);
   EXPECT_LE(cold.newton_iterations, 15);
   const double w = -solver.displacements()(plate.centre, 2);
@@ -82,6 +83,7 @@ TEST(Equilibrium, ConvergesQuadraticallyAndWarmStarts) {
   // Same α again: converged at the first check, one factorisation (for the adjoint).
   const EquilibriumStats again = solver.solve(alpha);
   EXPECT_EQ(again.newton_iterations, 0);
+  EXPECT_EQ(again.stop, "residual");
   EXPECT_EQ(again.factorizations, 1);
   EXPECT_TRUE(solver.linear_solver().has_factor());
 }
