@@ -6,11 +6,47 @@
 #include <cstdlib>
 #include <cstring>
 
+#ifdef CUTWORK_SANITIZE
+#include <dlfcn.h>
+#include <link.h>
+#endif
+
 #include "host/core/error.h"
 #include "host/vulkan/vk_check.h"
 
+#ifdef CUTWORK_SANITIZE
+// Sanitizer builds only (CMake option CUTWORK_SANITIZE). The Vulkan loader, the driver (Mesa's
+// lavapipe and the LLVM it JIT-compiles with) and the validation layer keep allocations until
+// exit; they are not cutwork's, so LeakSanitizer is told to ignore them, by library and nothing
+// else. One definition for every executable that links the Vulkan context (cutwork and the tests).
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libvulkan.so\nleak:libvulkan_lvp.so\nleak:libLLVM\nleak:libVkLayer_khronos_validation.so\n";
+}
+#endif
+
 namespace cutwork::vulkan {
 namespace {
+
+#ifdef CUTWORK_SANITIZE
+/// Keeps the loaded Vulkan loader, driver, layers and LLVM mapped until exit (RTLD_NODELETE). The
+/// loader unloads the driver and layers at vkDestroyInstance; LeakSanitizer could then only name
+/// their leftovers "<unknown module>" and the suppressions above would not apply.
+void keep_vulkan_libraries_mapped() {
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void*) -> int {
+        const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
+        for (const char* key : {"vulkan", "VkLayer", "LLVM"}) {
+          if (name.find(key) != std::string::npos) {
+            // RTLD_NOLOAD: a reference to an already-loaded library only, never released.
+            dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+            break;
+          }
+        }
+        return 0;
+      },
+      nullptr);
+}
+#endif
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 constexpr size_t kKeptMessages = 64;
@@ -196,7 +232,13 @@ Context::Context(const ContextOptions& options) : m_options(options) {
     enumerate_devices();
     m_device_index = choose_device(m_devices, m_options.device, m_options.require_float64);
     create_device();
+#ifdef CUTWORK_SANITIZE
+    keep_vulkan_libraries_mapped();
+#endif
   } catch (...) {
+#ifdef CUTWORK_SANITIZE
+    keep_vulkan_libraries_mapped();
+#endif
     destroy();
     throw;
   }

@@ -59,11 +59,6 @@ bool is_lavapipe(const vulkan::Context& ctx) {
   return id.find("llvmpipe") != std::string::npos || id.find("lavapipe") != std::string::npos;
 }
 
-template <class T>
-bool same_bits(std::span<const T> a, std::span<const T> b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
-
 /// What the clip kernel saw in `ev`'s last evaluation.
 kernels::ClipInputs clip_inputs(const SurfaceMesh& mesh, const StencilLibrary& lib,
                                 const FillRatioEvaluator& ev) {

@@ -7,40 +7,32 @@
 /// turns that skip into a failure. Anything else that goes wrong — the validation layer missing,
 /// a device that exists but cannot be opened — is always a failure, so CI cannot silently lose
 /// its GPU checks. Tests that do not use the fixture start with CUTWORK_SKIP_WITHOUT_VULKAN().
-#include <dlfcn.h>
 #include <gtest/gtest.h>
-#include <link.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "host/core/error.h"
 #include "host/vulkan/context.h"
 
 namespace cutwork::test {
 
-/// Keeps the Vulkan driver, the layers and the LLVM they JIT with mapped until exit
-/// (RTLD_NODELETE). The loader unloads them at vkDestroyInstance, after which LeakSanitizer
-/// (CUTWORK_SANITIZE builds) could only report their leftovers as "<unknown module>"; pinned,
-/// they keep their names and the suppressions in vulkan_context_vk_test.cpp apply.
-inline void pin_vulkan_libraries() {
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, size_t, void*) -> int {
-        const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
-        for (const char* key : {"vulkan", "VkLayer", "LLVM"}) {
-          if (name.find(key) != std::string::npos) {
-            // RTLD_NOLOAD: take a reference to an already-loaded library only; never released.
-            dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
-            break;
-          }
-        }
-        return 0;
-      },
-      nullptr);
+/// Whether two arrays hold the same bytes (the parity tests' "bit for bit"); empty arrays are
+/// equal without touching their (possibly null) data pointers.
+template <class T>
+bool same_bits(std::span<const T> a, std::span<const T> b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
+}
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return same_bits(std::span<const T>(a), std::span<const T>(b));
 }
 
 /// Empty when some Vulkan device can be opened; else why not. Probed once per process, without
@@ -53,7 +45,6 @@ inline const std::optional<std::string>& vulkan_unavailable_reason() {
       probe.print_validation_messages = false;
       probe.require_float64 = true;  // every cutwork kernel computes in double
       vulkan::Context ctx(probe);
-      pin_vulkan_libraries();
       return std::nullopt;
     } catch (const DeviceError& e) {
       return std::string(e.what());
@@ -106,7 +97,6 @@ class VulkanTest : public ::testing::Test {
     vulkan::ContextOptions o = options();
     o.validation = true;
     m_ctx = std::make_shared<vulkan::Context>(o);
-    pin_vulkan_libraries();  // now the validation layer is loaded too
   }
 
   void TearDown() override {

@@ -23,15 +23,6 @@
 #include "segmented_sum_selftest_spv.h"
 #include "tests/host/vulkan/vk_test_support.h"
 
-// Under CUTWORK_SANITIZE, LeakSanitizer would report what the Vulkan loader, the Mesa driver
-// (and the LLVM it JIT-compiles shaders with) and the validation layer keep until exit. Those
-// allocations are not cutwork's: suppress them by library, nothing else. (One definition for
-// the whole cutwork_gpu_tests executable; unused without sanitizers.)
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libvulkan.so\nleak:libvulkan_lvp.so\nleak:libLLVM\nleak:libVkLayer_khronos_"
-         "validation.so\n";
-}
-
 namespace cutwork::test {
 namespace {
 

@@ -24,11 +24,6 @@ namespace {
 
 using kernels::ClipResult;
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
-
 std::vector<ClipResult> cpu_clip(const ClipScenario& scene) {
   std::vector<ClipResult> r(scene.broad->pairs().size());
   kernels::ClipWorkspace ws;
