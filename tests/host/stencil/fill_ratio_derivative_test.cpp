@@ -16,31 +16,14 @@
 namespace cutwork {
 namespace {
 
-/// Stencils at random points inside random faces (barycentrics ≥ 0.1, so the centre's face is
-/// stable under the finite-difference steps), away from the tangent field's switch.
+/// test::random_stencils away from the x-axis tangent field's switch (|n_x| > 0.9), where the
+/// frame is not differentiable.
 std::vector<StencilParams> random_stencils(const FaceBvh& bvh, int n, double smin, double smax,
                                            int types, unsigned seed) {
-  const SurfaceMesh& mesh = *bvh.mesh();
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> face(0, mesh.num_faces() - 1);
-  std::uniform_real_distribution<double> u(0, 1), s(smin, smax), ang(-3.1, 3.1);
   const AxisTangentField field;
-  std::vector<StencilParams> out;
-  while (int(out.size()) < n) {
-    const int f = face(rng);
-    const double a = 0.1 + 0.7 * u(rng), b = 0.1 + (0.8 - a) * u(rng);
-    const Vec3 bary(1 - a - b, a, b);
-    if (bary.minCoeff() < 0.1) continue;
-    StencilParams p;
-    for (int k = 0; k < 3; ++k) p.position += bary[k] * mesh.vertices().row(mesh.faces()(f, k)).transpose();
-    const Frame fr = compute_frame(bvh, field, p.position, nullptr);
-    if (std::abs(fr.normal.x()) > 0.9) continue;  // near the x-axis field's switch
-    p.scale = s(rng);
-    p.angle = ang(rng);
-    p.type = int(out.size()) % types;
-    out.push_back(p);
-  }
-  return out;
+  return test::random_stencils(*bvh.mesh(), n, smin, smax, types, seed, [&](const Vec3& position) {
+    return std::abs(compute_frame(bvh, field, position, nullptr).normal.x()) <= 0.9;
+  });
 }
 
 void run_derivative_check(const SurfaceMesh& mesh, double smin, double smax, unsigned seed0) {

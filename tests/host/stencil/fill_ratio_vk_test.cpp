@@ -28,30 +28,6 @@
 namespace cutwork::test {
 namespace {
 
-/// Stencils at random points inside random faces, scales uniform in [smin, smax], random
-/// angles, types cycling through the library (as in fill_ratio_derivative_test.cpp).
-std::vector<StencilParams> random_stencils(const SurfaceMesh& mesh, int n, double smin,
-                                           double smax, int types, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> face(0, mesh.num_faces() - 1);
-  std::uniform_real_distribution<double> u(0, 1), s(smin, smax), ang(-3.1, 3.1);
-  std::vector<StencilParams> out;
-  while (int(out.size()) < n) {
-    const int f = face(rng);
-    const double a = 0.1 + 0.7 * u(rng), b = 0.1 + (0.8 - a) * u(rng);
-    const Vec3 bary(1 - a - b, a, b);
-    if (bary.minCoeff() < 0.1) continue;
-    StencilParams p;
-    for (int k = 0; k < 3; ++k)
-      p.position += bary[k] * mesh.vertices().row(mesh.faces()(f, k)).transpose();
-    p.scale = s(rng);
-    p.angle = ang(rng);
-    p.type = int(out.size()) % types;
-    out.push_back(p);
-  }
-  return out;
-}
-
 bool is_lavapipe(const vulkan::Context& ctx) {
   std::string id = ctx.info().name + " " + ctx.info().driver;
   std::transform(id.begin(), id.end(), id.begin(),

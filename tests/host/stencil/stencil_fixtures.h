@@ -2,9 +2,12 @@
 /// Meshes and helpers shared by the host/stencil tests.
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <random>
 #include <vector>
 
 #include "host/mesh/surface_mesh.h"
+#include "host/stencil/fill_ratio.h"
 #include "host/stencil/stencil_shape.h"
 
 namespace cutwork::test {
@@ -20,6 +23,33 @@ inline StencilLibrary mixed_library() {
   lib.add(make_builtin_stencil("apple", {}, "apple"));
   lib.add(make_builtin_stencil("heart", {}, "heart"));
   return lib;
+}
+
+/// n stencils at random points inside random faces of `mesh` (barycentrics ≥ 0.1, so the centre's
+/// face is stable under finite-difference steps), scales uniform in [smin, smax], angles in
+/// (−3.1, 3.1), types cycling through 0..types−1. `keep` may reject a centre (it is then drawn
+/// again); the random sequence is the same with or without it until it rejects.
+inline std::vector<StencilParams> random_stencils(const SurfaceMesh& mesh, int n, double smin, double smax,
+                                                  int types, unsigned seed,
+                                                  const std::function<bool(const Vec3&)>& keep = {}) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> face(0, mesh.num_faces() - 1);
+  std::uniform_real_distribution<double> u(0, 1), s(smin, smax), ang(-3.1, 3.1);
+  std::vector<StencilParams> out;
+  while (int(out.size()) < n) {
+    const int f = face(rng);
+    const double a = 0.1 + 0.7 * u(rng), b = 0.1 + (0.8 - a) * u(rng);
+    const Vec3 bary(1 - a - b, a, b);
+    if (bary.minCoeff() < 0.1) continue;
+    StencilParams p;
+    for (int k = 0; k < 3; ++k) p.position += bary[k] * mesh.vertices().row(mesh.faces()(f, k)).transpose();
+    if (keep && !keep(p.position)) continue;
+    p.scale = s(rng);
+    p.angle = ang(rng);
+    p.type = int(out.size()) % types;
+    out.push_back(p);
+  }
+  return out;
 }
 
 /// Regular grid of n×n square cells of size h over [0, n h]² in the plane z = 0, each cell
