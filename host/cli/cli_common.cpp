@@ -87,8 +87,7 @@ void add_device_option(CLI::App& cmd, std::string& device) {
       ->capture_default_str();
 }
 
-DeviceChoice choose_device(const std::string& device, const RunOptions& opts) {
-  (void)opts;
+DeviceChoice choose_device(const std::string& device) {
   DeviceChoice c;
   c.backend = select_compute_backend(parse_device_request(device), &std::cerr);
   c.fill = FillRatioOptions::for_backend(c.backend);

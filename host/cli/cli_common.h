@@ -63,7 +63,7 @@ struct DeviceChoice {
 /// Resolves `--device` (see host/vulkan/backend.h). `auto` without a usable Vulkan device warns
 /// once on stderr (even with --quiet: it changes what runs) and uses the CPU; `vulkan` without
 /// one throws DeviceError.
-DeviceChoice choose_device(const std::string& device, const RunOptions& opts);
+DeviceChoice choose_device(const std::string& device);
 
 /// The live progress display of a pipeline: one line on the terminal, rewritten in place
 /// (phase, iteration, objective, gradient norm, W_max, elapsed). Silent with --quiet or when

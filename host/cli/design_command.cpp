@@ -82,7 +82,7 @@ void run_design_command(const DesignCommandOptions& opts) {
   }
 
   sw.restart();
-  const DeviceChoice device = choose_device(opts.device, opts.run);
+  const DeviceChoice device = choose_device(opts.device);
   timings.add("device", sw.seconds());
 
   sw.restart();

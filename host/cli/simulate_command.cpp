@@ -82,7 +82,7 @@ void run_simulate(const SimulateOptions& opts) {
   nlohmann::json device_report = nullptr;
   if (!opts.stencils.empty()) {
     sw.restart();
-    const DeviceChoice device = choose_device(opts.device, opts.run);
+    const DeviceChoice device = choose_device(opts.device);
     device_report = device.report;
     alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count);
     timings.add("fill_ratios", sw.seconds());
