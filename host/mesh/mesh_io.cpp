@@ -27,6 +27,7 @@
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
 #include "host/mesh/mesh_file_checks.h"
+#include "host/mesh/polygon_triangulation.h"
 
 #ifndef TINYOBJLOADER_USE_DOUBLE
 #error "link tinyobjloader::tinyobjloader_double: OBJ files must be read in double precision"
@@ -102,7 +103,8 @@ void check_faces_in_range(const fs::path& path, const RowMatX3d& vertices, const
 //  - its triangulation (2.0.0rc10) splits a quad along the shorter diagonal, the outside one
 //    for a concave quad, and its ear clipping of larger polygons gets concave ones wrong (a
 //    triangle outside the polygon, flipped) or gives up and drops the rest of the polygon.
-//    Each polygon's triangles are checked against the polygon; a wrong one is an InputError.
+//    Each polygon's triangles are checked against the polygon; a wrong set is replaced by
+//    CGAL's triangulation of the polygon, and only when that fails too is it an InputError.
 
 constexpr std::string_view kObjParseError = "cannot be parsed: OBJ";
 
@@ -296,6 +298,10 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
   // triangles and quads always give 1 and 2), each facing like the polygon (its normal by
   // Newell's method; a self-intersecting polygon may have none). Triangles of exactly zero
   // area are left to the SurfaceMesh checks, which name them.
+  // A set that fails is the polygon triangulated again by CGAL (triangulate_polygon; concave
+  // polygons, which tinyobjloader gets wrong), checked the same way. A set must also cover the
+  // polygon's area (|Newell normal| / 2) once, and contain no zero-area triangle unless no valid
+  // set avoids one (corners on a line): SurfaceMesh then names the degenerate face.
   for (const ObjPolygon& polygon : scan.polygons) {
     const int* corners = scan.polygon_corners.data() + polygon.first_corner;
     const int* corners_end = corners + polygon.corners;
@@ -303,23 +309,41 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
     for (int k = 0; k < polygon.corners; ++k)
       normal += scan.positions[std::size_t(corners[k])].cross(
           scan.positions[std::size_t(corners[(k + 1) % polygon.corners])]);
-    bool triangulated = true;
-    for (int t = 0; t < polygon.corners - 2 && triangulated; ++t) {
-      const std::int64_t f = polygon.first_triangle + t;
-      triangulated = f < std::int64_t(triangles.size());
-      if (!triangulated) break;
-      const std::array<int, 3>& tri = triangles[std::size_t(f)];
-      for (int v : tri) triangulated = triangulated && std::find(corners, corners_end, v) != corners_end;
-      const Vec3& a = scan.positions[std::size_t(tri[0])];
-      const Vec3& b = scan.positions[std::size_t(tri[1])];
-      const Vec3& c = scan.positions[std::size_t(tri[2])];
-      const Vec3 twice_area = (b - a).cross(c - a);
-      triangulated = triangulated && (twice_area.dot(normal) > 0.0 || twice_area.isZero(0.0));
+    const std::int64_t first = polygon.first_triangle, count = polygon.corners - 2;
+    auto tiles_the_polygon = [&](std::span<const std::array<int, 3>> tris, bool allow_zero_area) {
+      if (std::int64_t(tris.size()) != count) return false;
+      double twice_total = 0;
+      for (const std::array<int, 3>& tri : tris) {
+        for (int v : tri)
+          if (std::find(corners, corners_end, v) == corners_end) return false;
+        const Vec3& a = scan.positions[std::size_t(tri[0])];
+        const Vec3& b = scan.positions[std::size_t(tri[1])];
+        const Vec3& c = scan.positions[std::size_t(tri[2])];
+        const Vec3 twice_area = (b - a).cross(c - a);
+        if (!(twice_area.dot(normal) > 0.0 || (allow_zero_area && twice_area.isZero(0.0)))) return false;
+        twice_total += twice_area.norm();
+      }
+      return std::abs(twice_total - normal.norm()) <= 1e-9 * normal.norm();
+    };
+    if (first + count > std::int64_t(triangles.size()))
+      obj_fail(what, fmt::format("face {} has {} vertices and could not be triangulated", first, polygon.corners));
+    const std::span<std::array<int, 3>> own(triangles.data() + first, std::size_t(count));
+    if (tiles_the_polygon(own, false)) continue;
+    std::vector<Vec3> outline;
+    outline.reserve(std::size_t(polygon.corners));
+    for (const int* c = corners; c != corners_end; ++c) outline.push_back(scan.positions[std::size_t(*c)]);
+    std::vector<std::array<int, 3>> again = triangulate_polygon(outline);
+    for (auto& tri : again)
+      for (int& v : tri) v = corners[v];
+    if (tiles_the_polygon(again, false) ||
+        (!tiles_the_polygon(own, true) && tiles_the_polygon(again, true))) {
+      std::copy(again.begin(), again.end(), own.begin());
+      continue;
     }
-    if (!triangulated)
-      obj_fail(what, fmt::format("face {} has {} vertices and could not be triangulated (concave, "
-                                 "self-intersecting or degenerate polygon?)",
-                                 polygon.first_triangle, polygon.corners));
+    if (!tiles_the_polygon(own, true))
+      obj_fail(what, fmt::format("face {} has {} vertices and could not be triangulated (self-intersecting "
+                                 "or degenerate polygon?)",
+                                 first, polygon.corners));
   }
   if (std::int64_t(triangles.size()) != scan.triangles)
     obj_fail(what, fmt::format("{}: the faces give {} triangles, {} expected", kObjParseError,

@@ -1,13 +1,16 @@
 #include "host/mesh/mesh_io.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "host/core/error.h"
 #include "tests/host/mesh/mesh_fixtures.h"
@@ -81,6 +84,51 @@ TEST(ReadMesh, PolygonsAreTriangulatedAndGroupsWelded) {
     EXPECT_DOUBLE_EQ(m.face_areas().sum(), 2.0);
     for (int f = 0; f < 4; ++f) EXPECT_DOUBLE_EQ(m.face_normals()(f, 2), 1.0);
   }
+}
+
+TEST(ReadMesh, ConcavePolygonsAreTriangulatedInsideTheirOutline) {
+  // Concave polygons (tinyobjloader's own triangulation puts triangles outside them) give
+  // corners − 2 triangles that tile the polygon: all facing like it, their areas summing to the
+  // polygon's (shoelace), none outside it.
+  struct Polygon {
+    const char* name;
+    std::vector<std::array<double, 2>> corners;
+  };
+  const std::vector<Polygon> polygons{
+      {"arrowhead", {{3, 0}, {-1, 0.5}, {-0.5, 0}, {-1, -0.5}}},
+      {"L", {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}},
+      {"U", {{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}},
+      {"comb", {{0, 0}, {5, 0}, {5, 2}, {4, 2}, {4, 1}, {3, 1}, {3, 2}, {2, 2}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}},
+      {"clockwise L", {{0, 3}, {1, 3}, {1, 1}, {2, 1}, {2, 0}, {0, 0}}},
+  };
+  const fs::path dir = test::temp_dir("mesh-io-concave");
+  for (const Polygon& polygon : polygons) {
+    SCOPED_TRACE(polygon.name);
+    const int n = int(polygon.corners.size());
+    std::string text;
+    double shoelace = 0;
+    for (int k = 0; k < n; ++k) {
+      const auto& [x, y] = polygon.corners[std::size_t(k)];
+      const auto& [x1, y1] = polygon.corners[std::size_t((k + 1) % n)];
+      text += fmt::format("v {} {} 0\n", x, y);
+      shoelace += 0.5 * (x * y1 - x1 * y);
+    }
+    text += "f";
+    for (int k = 1; k <= n; ++k) text += fmt::format(" {}", k);
+    spit(dir / "polygon.obj", text + "\n");
+    const SurfaceMesh m = read_mesh(dir / "polygon.obj");
+    ASSERT_EQ(m.num_faces(), n - 2);
+    EXPECT_EQ(m.num_vertices(), n);
+    EXPECT_NEAR(m.face_areas().sum(), std::abs(shoelace), 1e-12 * std::abs(shoelace));
+    for (int f = 0; f < m.num_faces(); ++f)
+      EXPECT_DOUBLE_EQ(m.face_normals()(f, 2), shoelace > 0 ? 1.0 : -1.0) << "face " << f;
+    EXPECT_EQ(m.boundary_loops().size(), 1u);
+    EXPECT_EQ(m.euler_characteristic(), 1);
+  }
+  // The arrowhead as a file in the test data.
+  const SurfaceMesh arrow = read_mesh(meshes() / "concave_quad.obj");
+  EXPECT_EQ(arrow.num_faces(), 2);
+  EXPECT_NEAR(arrow.face_areas().sum(), 1.75, 1e-15);
 }
 
 TEST(ReadMesh, ObjSyntaxVariants) {
@@ -336,9 +384,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"bad_coordinate.obj", "cannot be parsed: OBJ line 3: vertex coordinate 'zero' is not a number"},
         BadFile{"missing_coordinate.obj",
                 "cannot be parsed: OBJ line 3: vertex has 2 coordinates, expected 3"},
-        BadFile{"concave_quad.obj",
-                "face 0 has 4 vertices and could not be triangulated (concave, self-intersecting or "
-                "degenerate polygon?)"},
+        BadFile{"bowtie_quad.obj",
+                "face 0 has 4 vertices and could not be triangulated (self-intersecting or degenerate "
+                "polygon?)"},
         BadFile{"garbage.obj", "no faces"},
         BadFile{"garbage.ply",
                 "cannot be parsed: Invalid .ply file: Incorrect magic number (expected 'ply' or 'PLY')."},

@@ -1,0 +1,19 @@
+#pragma once
+/// Triangulation of one simple polygon in space (an OBJ face with more than three corners), for
+/// the mesh readers when their own library's triangulation is wrong (concave polygons).
+#include <array>
+#include <span>
+#include <vector>
+
+#include "host/core/types.h"
+
+namespace cutwork {
+
+/// The polygon with corners `corners` (in order, 3D, roughly planar) split into corners.size() − 2
+/// triangles of its own corners (local indices into `corners`), each oriented like the polygon.
+/// Convex and concave simple polygons alike (CGAL's constrained Delaunay triangulation in the
+/// polygon's plane). Empty when CGAL cannot triangulate it (fewer than 3 corners, a repeated
+/// corner); a self-intersecting polygon gives triangles the caller's orientation check rejects.
+std::vector<std::array<int, 3>> triangulate_polygon(std::span<const Vec3> corners);
+
+}  // namespace cutwork
