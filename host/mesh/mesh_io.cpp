@@ -300,7 +300,7 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
   // area are left to the SurfaceMesh checks, which name them.
   // A set that fails is the polygon triangulated again by CGAL (triangulate_polygon; concave
   // polygons, which tinyobjloader gets wrong), checked the same way. A set must also cover the
-  // polygon's area (|Newell normal| / 2) once, and contain no zero-area triangle unless no valid
+  // polygon's (projected) area |Newell normal| / 2 once, and contain no zero-area triangle unless no valid
   // set avoids one (corners on a line): SurfaceMesh then names the degenerate face.
   for (const ObjPolygon& polygon : scan.polygons) {
     const int* corners = scan.polygon_corners.data() + polygon.first_corner;
@@ -321,9 +321,11 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
         const Vec3& c = scan.positions[std::size_t(tri[2])];
         const Vec3 twice_area = (b - a).cross(c - a);
         if (!(twice_area.dot(normal) > 0.0 || (allow_zero_area && twice_area.isZero(0.0)))) return false;
-        twice_total += twice_area.norm();
+        twice_total += twice_area.dot(normal);
       }
-      return std::abs(twice_total - normal.norm()) <= 1e-9 * normal.norm();
+      // Vector area is additive: the triangles of a tiling sum to the polygon's Newell normal,
+      // planar or warped; projected on it, |normal|².
+      return std::abs(twice_total - normal.squaredNorm()) <= 1e-9 * normal.squaredNorm();
     };
     if (first + count > std::int64_t(triangles.size()))
       obj_fail(what, fmt::format("face {} has {} vertices and could not be triangulated", first, polygon.corners));

@@ -125,6 +125,11 @@ TEST(ReadMesh, ConcavePolygonsAreTriangulatedInsideTheirOutline) {
     EXPECT_EQ(m.boundary_loops().size(), 1u);
     EXPECT_EQ(m.euler_characteristic(), 1);
   }
+  // A warped (non-planar) quad, common in architectural meshes, is two triangles as before.
+  spit(dir / "warped.obj", "v 0 0 0\nv 1 0 0.2\nv 1 1 0\nv 0 1 0.2\nf 1 2 3 4\n");
+  const SurfaceMesh warped = read_mesh(dir / "warped.obj");
+  EXPECT_EQ(warped.num_faces(), 2);
+  for (int f = 0; f < 2; ++f) EXPECT_GT(warped.face_normals()(f, 2), 0.9);
   // The arrowhead as a file in the test data.
   const SurfaceMesh arrow = read_mesh(meshes() / "concave_quad.obj");
   EXPECT_EQ(arrow.num_faces(), 2);
