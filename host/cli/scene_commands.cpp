@@ -74,7 +74,7 @@ void add_check_command(CLI::App& app) {
     const LoadCase lc = resolve_load_case(scene, meshes.sim);
     // Everything a simulation checks before it starts (supports that hold every part, loads that
     // are finite and not zero) is checked here, before anything is printed.
-    const solvers::ShellModel model(meshes.sim, scene.material, lc);
+    const solvers::ShellModel model(meshes.sim, scene.material, lc, scene.mechanics);
     if (!notice.empty()) std::cout << "note: " << notice << "\n";
     std::cout << "scene " << scene.name << (scene.description.empty() ? "" : ": " + scene.description) << "\n";
     print_mesh("base mesh", meshes.base);

@@ -68,7 +68,7 @@ void run_simulate(const SimulateOptions& opts) {
   std::vector<std::string>& notes = loaded.notes;  // told once the run has succeeded
 
   sw.restart();
-  const solvers::ShellModel model(meshes.sim, scene.material, load_case);
+  const solvers::ShellModel model(meshes.sim, scene.material, load_case, scene.mechanics);
   timings.add("model", sw.seconds());
 
   solvers::NewtonSettings settings;
@@ -141,6 +141,8 @@ void run_simulate(const SimulateOptions& opts) {
                       {"fixed_vertices", fixed},
                       {"clamped_vertices", clamped},
                       {"membranes", model.num_faces()},
+                      {"bending", scene.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
+                      {"bends", model.bends().size()},
                       {"hinges", model.hinges().size()},
                       {"clamp_hinges", model.clamp_hinges().size()},
                       {"matrix_nonzeros", model.assembly().num_nonzeros()},

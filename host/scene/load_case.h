@@ -15,6 +15,16 @@ struct Material {
   double density = 1010.0;         ///< ρ (kg/m³)
 };
 
+/// How the shell is modelled (scene section "mechanics").
+enum class BendingModel {
+  ShapeOperator,  ///< per-face discrete shape operator, Kirchhoff's energy with the material's ν (default)
+  Hinge,          ///< the paper's discrete-shell hinges (8), kept to reproduce the paper's numbers
+};
+
+struct MechanicsSettings {
+  BendingModel bending = BendingModel::ShapeOperator;
+};
+
 enum class SupportKind {
   Pinned,   ///< the selected vertices cannot move
   Clamped,  ///< pinned, and the surface's tangent plane along them cannot rotate

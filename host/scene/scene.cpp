@@ -143,6 +143,14 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
     m.finish();
   }
 
+  // ---- mechanics
+  {
+    JsonObjectReader m = root.object("mechanics");
+    const std::string bending = m.string("bending", "shape_operator", {"shape_operator", "hinge"});
+    scene.mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
+    m.finish();
+  }
+
   // ---- supports
   {
     const json& arr = root.array("supports");
@@ -339,6 +347,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                    {"poisson_ratio", s.material.poisson_ratio},
                    {"thickness", s.material.thickness},
                    {"density", s.material.density}};
+  j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"}};
   j["supports"] = json::array();
   for (const auto& sp : s.supports)
     j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},

@@ -127,6 +127,7 @@ struct Scene {
   bool from_plain_mesh = false;         ///< a mesh file given in place of a scene (defaults used)
   MeshSpec mesh;
   Material material;
+  MechanicsSettings mechanics;
   std::vector<SupportSpec> supports;
   std::vector<LoadSpec> loads;
   std::vector<StencilShapeSpec> shapes;

@@ -1,6 +1,6 @@
 #pragma once
 /// Assembly of a symmetric sparse matrix over nodes with 3 DOFs each, from elements that touch up to
-/// four nodes, with everything that depends on topology alone built once:
+/// six nodes, with everything that depends on topology alone built once:
 ///   - the upper-triangular CSC pattern (what CHOLMOD's symmetric stype = 1 mode reads),
 ///   - per element, the value slot of each of its 3×3 blocks (the element→slot scatter map),
 ///   - a colouring of the elements such that no two elements of one colour share a node.
@@ -12,7 +12,9 @@
 /// vertices; an element refers to a position that is not a DOF (a fixed vertex, a ghost point, an
 /// unused slot) with node id −1, and its rows and columns are simply not scattered — the fixed DOFs
 /// are eliminated, the assembled matrix is the reduced one.
+#include <algorithm>
 #include <array>
+#include <initializer_list>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,8 +23,16 @@ namespace cutwork::solvers {
 
 class BlockAssembly {
  public:
-  static constexpr int kMaxNodes = 4;
+  static constexpr int kMaxNodes = 6;
   using ElementNodes = std::array<int, kMaxNodes>;
+  /// Node ids of an element with fewer than kMaxNodes nodes: the rest are −1 (no DOF). Use this
+  /// rather than a braced list, whose missing entries would be 0 — node 0.
+  static ElementNodes nodes(std::initializer_list<int> ids) {
+    ElementNodes n;
+    n.fill(-1);
+    std::copy(ids.begin(), ids.end(), n.begin());
+    return n;
+  }
 
   BlockAssembly() = default;
   /// num_nodes: number of free nodes (#DOF = 3·num_nodes). element_nodes: per element its node ids

@@ -1,18 +1,18 @@
 #pragma once
 /// Per-triangle energy density W_i of (16), the failure indicator of the energy-density objective:
+/// the elastic energy per area of the material that is left, Â_i = α_i A_i.
 ///
-///     W_i = Ŵ_i^memb / Â_i  +  Σ_j  Â_i / (3 Â_ij²) · Ŵ_ij^bend,     Â_i = α_i A_i,  Â_ij = (Â_i + Â_j)/3,
+/// Shape-operator bending (default): face i owns its membrane and its bending element, both scaled
+/// by α_i, so W_i = (α_i U_i^memb + α_i U_i^bend)/Â_i = (U_i^memb + U_i^bend)/A_i: the energy per
+/// area at the local strain and curvature — independent of α at a given state, as a stress-like
+/// failure measure must be — and Σ_i Â_i W_i is the total elastic energy.
 ///
-/// the sum running over the hinges j of triangle i. Read term by term:
-///   - membrane: Ŵ_i^memb / Â_i = α_i A_i Ψ_i / (α_i A_i) = Ψ_i, the energy per area of the material
-///     that is left — independent of α at a given strain, as a stress-like failure measure must be;
-///   - bending: Â_i/(3Â_ij²) Ŵ_ij = [Â_i / (Â_i + Â_j)] · [Ŵ_ij / Â_ij]: the hinge's energy per
-///     (remaining) hinge area, weighted by triangle i's share of the hinge. On a uniform mesh the
-///     shares are ½, so the bending part is half the sum of the three hinges' densities; Σ_i Â_i W_i
-///     is therefore not the total energy (bending is counted 3/2 times) — (16) is used as printed
-///     because the objectives (17) and (18) are defined on it.
-/// A clamp hinge (shell_model.h) belongs to its face alone: Â_ij = Â_i/3, share 1, contributing
-/// Ŵ_clamp / Â_ij = 3 W_clamp / A_i.
+/// Hinge bending (the paper's model): (16) as printed,
+///     W_i = Ŵ_i^memb / Â_i  +  Σ_j  Â_i / (3 Â_ij²) · Ŵ_ij^bend,     Â_ij = (Â_i + Â_j)/3,
+/// the sum running over the hinges j of triangle i: the hinge's energy per (remaining) hinge area,
+/// weighted by triangle i's share of the hinge. On a uniform mesh the shares are ½, so the bending
+/// part is half the sum of the three hinges' densities and Σ_i Â_i W_i counts bending 3/2 times.
+/// A clamp hinge belongs to its face alone: Â_ij = Â_i/3, share 1, contributing 3 W_clamp / A_i.
 ///
 /// Units: J/m². x: #V×3 positions (m); alpha: #F fill ratios.
 #include <Eigen/Core>

@@ -6,10 +6,10 @@
 namespace cutwork::solvers {
 
 StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_bvh, const Material& material,
-                                 const LoadCase& load_case, const StencilLibrary& shapes,
+                                 const MechanicsSettings& mechanics, const LoadCase& load_case, const StencilLibrary& shapes,
                                  const TangentField& field, FillRatioOptions fill_options, NewtonSettings newton)
     : m_sim(&sim), m_sim_bvh(sim) {
-  m_model = std::make_unique<ShellModel>(sim, material, load_case);
+  m_model = std::make_unique<ShellModel>(sim, material, load_case, mechanics);
   m_solver = std::make_unique<EquilibriumSolver>(*m_model, std::move(newton));
   m_fill = std::make_unique<FillRatioEvaluator>(surface_bvh, m_sim_bvh, shapes, &field, fill_options);
   m_alpha = Eigen::VectorXd::Ones(sim.num_faces());

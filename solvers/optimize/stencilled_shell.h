@@ -37,7 +37,7 @@ class StencilledShell {
   /// tangents from `field`. Everything referenced must outlive this object. Throws what
   /// ShellModel, EquilibriumSolver and FillRatioEvaluator throw for bad input.
   StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_bvh, const Material& material,
-                  const LoadCase& load_case, const StencilLibrary& shapes, const TangentField& field,
+                  const MechanicsSettings& mechanics, const LoadCase& load_case, const StencilLibrary& shapes, const TangentField& field,
                   FillRatioOptions fill_options = {}, NewtonSettings newton = {});
   StencilledShell(const StencilledShell&) = delete;
   StencilledShell& operator=(const StencilledShell&) = delete;

@@ -1,6 +1,6 @@
 #pragma once
 /// Partial derivatives of the shell's energy and net force with respect to the fill ratios, at fixed
-/// positions. Every element energy is linear in α_f (membrane, clamp hinge) or in √(α_i α_j)
+/// positions. Every element energy is linear in α_f (membrane, shape-operator bend, clamp hinge) or in √(α_i α_j)
 /// (hinge), so the partials are closed forms of the unit-fill-ratio element quantities:
 ///   ∂(α W)/∂α = W,   ∂(√(α_i α_j) W)/∂α_i = √(α_i α_j) W / (2 α_i),
 /// and likewise for the element gradients. Self-weight adds ∂f_ext/∂α_t = ρ h A_t g / 3 per vertex.

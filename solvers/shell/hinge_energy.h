@@ -14,9 +14,14 @@
 /// every direction for a near-equilateral mesh), while Kirchhoff's cylindrical-bending energy is
 /// D/2 · κ² · area; hence k = D/6 · |ē|²/Ā. Limits a user should know: the hinge model is isotropic
 /// only on near-equilateral meshes (a right-triangle grid bent about its diagonal is 3× too stiff),
-/// and its built-in Poisson coupling of the two curvatures is that of ν = 1/3 whatever the
-/// material's ν (it matters where the Gaussian-curvature term does not vanish, e.g. a free strip's
-/// anticlastic curvature; it vanishes for clamped plates). The membrane uses the material's ν.
+/// and its coupling of the two curvatures is that of ν = −1/3 whatever the material's ν: on the
+/// near-equilateral lattice the hinge sum gives ½Dκ² for a cylinder (as calibrated), ⅔Dκ² for a
+/// sphere and (4/3)Dτ² for a twist, where Kirchhoff gives (1+ν)Dκ² and (1−ν)Dτ²
+/// (tests/solvers/shell/shape_operator_test.cpp measures it). It matters wherever the
+/// Gaussian-curvature term does not integrate to zero — free edges and holes: a free strip bends
+/// anticlastically the wrong way — and vanishes for clamped plates without holes. This is why the
+/// default bending element is the shape operator (shape_operator_energy.h); hinges stay available
+/// (`"mechanics": {"bending": "hinge"}`) to reproduce the paper. The membrane uses the material's ν.
 ///
 /// Clamped supports use one-sided "clamp hinges" (see shell_model.h): the same energy with the
 /// fourth vertex a fixed ghost point in the rest tangent plane and Ā = A_f/3.

@@ -13,6 +13,17 @@ Vec9 membrane_positions(const ShellModel& model, const RowMatX3d& x, int face) {
   return v;
 }
 
+Vec18 bend_positions(const ShellBend& bend, const RowMatX3d& x) {
+  Vec18 v;
+  for (int a = 0; a < 6; ++a) {
+    if (bend.v[a] >= 0)
+      v.segment<3>(3 * a) = x.row(bend.v[a]).transpose();
+    else
+      v.segment<3>(3 * a).setZero();  // a ghost (set by the element from its opposite vertex) or unused
+  }
+  return v;
+}
+
 Vec12 hinge_positions(const ShellHinge& hinge, const RowMatX3d& x) {
   Vec12 v;
   for (int k = 0; k < 4; ++k) v.segment<3>(3 * k) = x.row(hinge.v[k]).transpose();
@@ -30,6 +41,17 @@ double hinge_fill_factor(const ShellHinge& hinge, const Eigen::VectorXd& alpha) 
   return std::sqrt(alpha[hinge.face[0]] * alpha[hinge.face[1]]);
 }
 
+double element_fill_factor(const ShellModel& model, const Eigen::VectorXd& alpha, int e) {
+  const ElementRef ref = model.element(e);
+  switch (ref.kind) {
+    case ElementKind::Membrane: return alpha[ref.index];
+    case ElementKind::Bend: return alpha[model.bends()[ref.index].face];
+    case ElementKind::Hinge: return hinge_fill_factor(model.hinges()[ref.index], alpha);
+    case ElementKind::Clamp: return alpha[model.clamp_hinges()[ref.index].face];
+  }
+  return 0;
+}
+
 namespace {
 
 /// Deterministic sum (fixed order), so the energy does not depend on scheduling.
@@ -41,39 +63,32 @@ double ordered_sum(const std::vector<double>& v) {
 
 double finite_or_inf(double e) { return std::isfinite(e) ? e : INFINITY; }
 
+/// Runs body(e) for every element with a DOF, one colour at a time: elements of one colour share no
+/// node, so their scatters never collide, and every slot receives its contributions in colour order
+/// whatever the thread count.
+template <typename Body>
+void for_each_element_by_colour(const BlockAssembly& asmb, Body&& body) {
+  for (const std::vector<int>& colour : asmb.colours()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, colour.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) body(colour[i]);
+                      });
+  }
+}
+
 }  // namespace
 
 double shell_energy(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                     ElementEnergies* unit) {
-  const int nf = model.num_faces();
-  const int nh = int(model.hinges().size());
-  const int nc = int(model.clamp_hinges().size());
-  const ShellStiffness& k = model.stiffness();
-  std::vector<double> energy(std::size_t(nf + nh + nc));
-  if (unit) {
-    unit->membrane.resize(nf);
-    unit->hinge.resize(nh);
-    unit->clamp.resize(nc);
-  }
-  tbb::parallel_for(tbb::blocked_range<int>(0, nf + nh + nc, 1024), [&](const tbb::blocked_range<int>& r) {
+  const int ne = model.num_elements();
+  std::vector<double> energy(std::size_t(ne), 0.0);
+  if (unit) unit->resize(ne);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ne, 1024), [&](const tbb::blocked_range<int>& r) {
     for (int e = r.begin(); e < r.end(); ++e) {
-      double u = 0, s = 1;
-      if (e < nf) {
-        u = membrane_energy(membrane_positions(model, x, e), model.membranes()[e], k.mu, k.lambda, 1.0);
-        s = alpha[e];
-        if (unit) unit->membrane[e] = u;
-      } else if (e < nf + nh) {
-        const ShellHinge& h = model.hinges()[e - nf];
-        u = hinge_energy(hinge_positions(h, x), h.rest, 1.0);
-        s = hinge_fill_factor(h, alpha);
-        if (unit) unit->hinge[e - nf] = u;
-      } else {
-        const ClampHinge& c = model.clamp_hinges()[e - nf - nh];
-        u = hinge_energy(clamp_positions(c, x), c.rest, 1.0);
-        s = alpha[c.face];
-        if (unit) unit->clamp[e - nf - nh] = u;
-      }
-      energy[e] = finite_or_inf(s * u);
+      double u = 0;
+      visit_element(model, x, e, 1.0, ElementNeed::Energy, [&](const auto& l) { u = l.energy; });
+      if (unit) (*unit)[e] = u;
+      energy[e] = finite_or_inf(element_fill_factor(model, alpha, e) * u);
     }
   });
   return ordered_sum(energy);
@@ -82,64 +97,39 @@ double shell_energy(const ShellModel& model, const RowMatX3d& x, const Eigen::Ve
 void assemble_shell(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                     bool with_hessian, ShellAssembly& out) {
   const BlockAssembly& asmb = model.assembly();
-  const int nf = model.num_faces();
-  const int nh = int(model.hinges().size());
-  const ShellStiffness& k = model.stiffness();
   out.gradient.setZero(asmb.num_dofs());
   if (with_hessian) out.hessian.assign(std::size_t(asmb.num_nonzeros()), 0.0);
   out.element_energy.assign(std::size_t(asmb.num_elements()), 0.0);
   double* hess = with_hessian ? out.hessian.data() : nullptr;
   double* grad = out.gradient.data();
+  const ElementNeed need = with_hessian ? ElementNeed::Hessian : ElementNeed::Gradient;
 
-  auto evaluate = [&](int e, bool scatter) {
-    double energy = 0;
-    if (e < nf) {
-      Vec9 g;
-      Mat9 h;
-      membrane_energy_gradient_hessian(membrane_positions(model, x, e), model.membranes()[e], k.mu,
-                                       k.lambda, alpha[e], &energy, scatter ? &g : nullptr,
-                                       scatter && hess ? &h : nullptr);
-      if (scatter) {
-        asmb.scatter_vector<3>(e, g, grad);
-        if (hess) asmb.scatter_matrix<3>(e, h, hess);
-      }
-    } else {
-      Vec12 xe;
-      HingeRest rest;
-      double s;
-      if (e < nf + nh) {
-        const ShellHinge& sh = model.hinges()[e - nf];
-        xe = hinge_positions(sh, x);
-        rest = sh.rest;
-        s = hinge_fill_factor(sh, alpha);
-      } else {
-        const ClampHinge& c = model.clamp_hinges()[e - nf - nh];
-        xe = clamp_positions(c, x);
-        rest = c.rest;
-        s = alpha[c.face];
-      }
-      Vec12 g;
-      Mat12 h;
-      hinge_energy_gradient_hessian(xe, rest, s, &energy, scatter ? &g : nullptr,
-                                    scatter && hess ? &h : nullptr);
-      if (scatter) {
-        asmb.scatter_vector<4>(e, g, grad);
-        if (hess) asmb.scatter_matrix<4>(e, h, hess);
-      }
-    }
-    out.element_energy[e] = finite_or_inf(energy);
-  };
-
-  // One colour at a time: elements of one colour share no node, so their scatters never collide,
-  // and every slot receives its contributions in colour order whatever the thread count.
-  for (const std::vector<int>& colour : asmb.colours()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, colour.size(), 256),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) evaluate(colour[i], true);
-                      });
-  }
-  for (int e : asmb.uncoloured()) evaluate(e, false);
+  for_each_element_by_colour(asmb, [&](int e) {
+    visit_element(model, x, e, element_fill_factor(model, alpha, e), need, [&](const auto& l) {
+      constexpr int K = int(std::tuple_size_v<std::decay_t<decltype(l.vertex)>>);
+      asmb.scatter_vector<K>(e, l.gradient, grad);
+      if (hess) asmb.scatter_matrix<K>(e, l.hessian, hess);
+      out.element_energy[e] = finite_or_inf(l.energy);
+    });
+  });
+  for (int e : asmb.uncoloured())
+    visit_element(model, x, e, element_fill_factor(model, alpha, e), ElementNeed::Energy,
+                  [&](const auto& l) { out.element_energy[e] = finite_or_inf(l.energy); });
   out.energy = ordered_sum(out.element_energy);
+}
+
+Eigen::VectorXd weighted_element_gradient(const ShellModel& model, const RowMatX3d& x,
+                                          const Eigen::VectorXd& weight) {
+  const BlockAssembly& asmb = model.assembly();
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(asmb.num_dofs());
+  for_each_element_by_colour(asmb, [&](int e) {
+    if (weight[e] == 0) return;
+    visit_element(model, x, e, weight[e], ElementNeed::Gradient, [&](const auto& l) {
+      constexpr int K = int(std::tuple_size_v<std::decay_t<decltype(l.vertex)>>);
+      asmb.scatter_vector<K>(e, l.gradient, g.data());
+    });
+  });
+  return g;
 }
 
 }  // namespace cutwork::solvers

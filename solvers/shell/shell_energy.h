@@ -1,10 +1,17 @@
 #pragma once
-/// Total elastic energy (11) of a ShellModel, Ŵ(x, α) = Σ α_f A_f Ψ_f + Σ √(α_i α_j) W_ij + Σ α_f W_clamp,
-/// with its gradient and Hessian over the free DOFs, assembled in parallel (TBB) into the fixed
-/// pattern of ShellModel::assembly(). Results do not depend on the number of threads.
+/// Total elastic energy (11) of a ShellModel, Ŵ(x, α) = Σ_e s_e(α) U_e(x), with U_e the energy of
+/// element e at unit fill ratio and s_e its fill factor (α_f for membranes, shape-operator bends and
+/// clamp hinges; √(α_i α_j) for hinges (10)), with its gradient and Hessian over the free DOFs,
+/// assembled in parallel (TBB) into the fixed pattern of ShellModel::assembly(). Results do not
+/// depend on the number of threads.
+///
+/// Every consumer of elements (assembly, energy density, fill-ratio partials) goes through one
+/// dispatch, visit_element(), and one fill-factor rule, element_fill_factor() /
+/// for_each_fill_dependence(), so a new element kind is added in one place.
 ///
 /// x: #V×3 positions (m), rows of fixed vertices equal to their rest positions; alpha: #F fill
 /// ratios. Energies in J, gradients in N, Hessian entries in N/m.
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,9 +20,35 @@
 
 namespace cutwork::solvers {
 
-/// Ŵ(x, α) (J). When `unit` is given it receives the per-element energies at unit fill ratio.
-/// Returns +inf when an element is degenerate (a collapsed triangle makes θ undefined), which a
-/// line search treats as a rejected step.
+/// What an element evaluation must produce.
+enum class ElementNeed { Energy, Gradient, Hessian };
+
+/// One element's local quantities in its DOF order (K nodes): energy, and, as requested, gradient
+/// and Hessian. vertex[a] is the mesh vertex of local node a, −1 for a ghost or unused node.
+template <int K>
+struct ElementLocal {
+  std::array<int, K> vertex;
+  double energy = 0;
+  Eigen::Matrix<double, 3 * K, 1> gradient;
+  Eigen::Matrix<double, 3 * K, 3 * K> hessian;
+};
+
+/// Evaluates element e of `model` at positions x with the energy multiplied by `scale` (1: unit fill
+/// ratio), and calls visit(const ElementLocal<K>&) once, K = 3 (membrane), 6 (shape-operator bend)
+/// or 4 (hinge, clamp hinge).
+template <typename Visit>
+void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double scale, ElementNeed need,
+                   Visit&& visit);
+
+/// s_e(α) of element e.
+double element_fill_factor(const ShellModel& model, const Eigen::VectorXd& alpha, int e);
+/// Calls visit(face, ∂s_e/∂α_face) for every face whose fill ratio s_e depends on, in a fixed order.
+template <typename Visit>
+void for_each_fill_dependence(const ShellModel& model, const Eigen::VectorXd& alpha, int e, Visit&& visit);
+
+/// Ŵ(x, α) (J). When `unit` is given it receives U_e for every element (ShellModel's element order).
+/// Returns +inf when an element is degenerate (a collapsed triangle makes its normal undefined),
+/// which a line search treats as a rejected step.
 double shell_energy(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                     ElementEnergies* unit = nullptr);
 
@@ -24,18 +57,90 @@ struct ShellAssembly {
   double energy = 0;              ///< Ŵ (J)
   Eigen::VectorXd gradient;       ///< #DOF: ∂Ŵ/∂x on the free DOFs (N)
   std::vector<double> hessian;    ///< nnz: upper triangle of ∂²Ŵ/∂x² (N/m), in assembly() order
-  std::vector<double> element_energy;  ///< per element (membranes, hinges, clamps), scaled by α
+  std::vector<double> element_energy;  ///< per element, scaled by its fill factor
 };
 
 /// Energy and gradient, plus the Hessian values when with_hessian.
 void assemble_shell(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                     bool with_hessian, ShellAssembly& out);
 
-/// Local position vectors of the elements (helpers shared with the sensitivity code).
+/// Σ_e weight_e ∂U_e/∂x over the free DOFs (#DOF): a weighted sum of unit element gradients, as the
+/// energy-density objectives and the adjoint's ∂f/∂α products need. Deterministic.
+Eigen::VectorXd weighted_element_gradient(const ShellModel& model, const RowMatX3d& x,
+                                          const Eigen::VectorXd& weight);
+
+/// Local position vectors of the elements.
 Vec9 membrane_positions(const ShellModel& model, const RowMatX3d& x, int face);
+Vec18 bend_positions(const ShellBend& bend, const RowMatX3d& x);
 Vec12 hinge_positions(const ShellHinge& hinge, const RowMatX3d& x);
 Vec12 clamp_positions(const ClampHinge& clamp, const RowMatX3d& x);
 /// √(α_i α_j) of a hinge.
 double hinge_fill_factor(const ShellHinge& hinge, const Eigen::VectorXd& alpha);
+
+// ---- implementation of the templates -------------------------------------------------------------
+
+template <typename Visit>
+void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double scale, ElementNeed need,
+                   Visit&& visit) {
+  const bool want_g = need != ElementNeed::Energy, want_h = need == ElementNeed::Hessian;
+  const ElementRef ref = model.element(e);
+  const ShellStiffness& k = model.stiffness();
+  switch (ref.kind) {
+    case ElementKind::Membrane: {
+      ElementLocal<3> l;
+      for (int a = 0; a < 3; ++a) l.vertex[a] = model.mesh().faces()(ref.index, a);
+      membrane_energy_gradient_hessian(membrane_positions(model, x, ref.index), model.membranes()[ref.index], k.mu,
+                                       k.lambda, scale, &l.energy, want_g ? &l.gradient : nullptr,
+                                       want_h ? &l.hessian : nullptr);
+      visit(l);
+      return;
+    }
+    case ElementKind::Bend: {
+      const ShellBend& b = model.bends()[ref.index];
+      ElementLocal<6> l;
+      for (int a = 0; a < 6; ++a) l.vertex[a] = b.v[a];
+      shape_operator_energy_gradient_hessian(bend_positions(b, x), b.rest, model.bending_constitutive(),
+                                             scale * k.bending, &l.energy, want_g ? &l.gradient : nullptr,
+                                             want_h ? &l.hessian : nullptr);
+      visit(l);
+      return;
+    }
+    case ElementKind::Hinge: {
+      const ShellHinge& h = model.hinges()[ref.index];
+      ElementLocal<4> l;
+      for (int a = 0; a < 4; ++a) l.vertex[a] = h.v[a];
+      hinge_energy_gradient_hessian(hinge_positions(h, x), h.rest, scale, &l.energy, want_g ? &l.gradient : nullptr,
+                                    want_h ? &l.hessian : nullptr);
+      visit(l);
+      return;
+    }
+    case ElementKind::Clamp: {
+      const ClampHinge& c = model.clamp_hinges()[ref.index];
+      ElementLocal<4> l;
+      l.vertex = {c.v[0], c.v[1], c.v[2], -1};
+      hinge_energy_gradient_hessian(clamp_positions(c, x), c.rest, scale, &l.energy, want_g ? &l.gradient : nullptr,
+                                    want_h ? &l.hessian : nullptr);
+      visit(l);
+      return;
+    }
+  }
+}
+
+template <typename Visit>
+void for_each_fill_dependence(const ShellModel& model, const Eigen::VectorXd& alpha, int e, Visit&& visit) {
+  const ElementRef ref = model.element(e);
+  switch (ref.kind) {
+    case ElementKind::Membrane: visit(ref.index, 1.0); return;
+    case ElementKind::Bend: visit(model.bends()[ref.index].face, 1.0); return;
+    case ElementKind::Hinge: {
+      const ShellHinge& h = model.hinges()[ref.index];
+      const double s = hinge_fill_factor(h, alpha);
+      visit(h.face[0], s / (2.0 * alpha[h.face[0]]));
+      visit(h.face[1], s / (2.0 * alpha[h.face[1]]));
+      return;
+    }
+    case ElementKind::Clamp: visit(model.clamp_hinges()[ref.index].face, 1.0); return;
+  }
+}
 
 }  // namespace cutwork::solvers

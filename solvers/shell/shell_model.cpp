@@ -25,10 +25,13 @@ std::string point_text(const Vec3& p) { return fmt::format("({:.4g}, {:.4g}, {:.
 
 }  // namespace
 
-ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case)
+ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case,
+                       const MechanicsSettings& mechanics)
     : m_mesh(std::make_shared<SurfaceMesh>(mesh)),
       m_material(material),
       m_stiffness(shell_stiffness(material)),
+      m_mechanics(mechanics),
+      m_bending_constitutive(solvers::bending_constitutive(material.poisson_ratio)),
       m_load_case(load_case) {
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   const RowMatX3d& X = mesh.vertices();
@@ -77,44 +80,10 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   m_membranes.resize(nf);
   for (int f = 0; f < nf; ++f)
     m_membranes[f] = membrane_rest(X.row(F(f, 0)), X.row(F(f, 1)), X.row(F(f, 2)));
-  const Eigen::VectorXd& area = mesh.face_areas();
-  const double D = m_stiffness.bending;
-
-  auto edge_clamped = [&](int a, int b) { return bool(lc.clamped[a] && lc.clamped[b]); };
-  for (const Hinge& h : mesh.hinges()) {
-    if (edge_clamped(h.v[0], h.v[1])) continue;  // replaced by a clamp hinge on each side
-    ShellHinge sh;
-    std::copy(h.v, h.v + 4, sh.v);
-    sh.face[0] = h.face[0];
-    sh.face[1] = h.face[1];
-    Vec12 x;
-    for (int k = 0; k < 4; ++k) x.segment<3>(3 * k) = X.row(h.v[k]).transpose();
-    sh.rest.rest_angle = dihedral_angle(x);
-    const double edge_length = (X.row(h.v[1]) - X.row(h.v[0])).norm();
-    sh.rest.stiffness = hinge_stiffness(D, edge_length, (area[h.face[0]] + area[h.face[1]]) / 3.0);
-    m_hinges.push_back(sh);
-  }
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3), c = F(f, (k + 2) % 3);
-      // A clamp hinge only acts through the free opposite vertex; with c fixed too it is inert.
-      if (!edge_clamped(a, b) || m_fixed[c]) continue;
-      ClampHinge ch;
-      ch.v[0] = a;
-      ch.v[1] = b;
-      ch.v[2] = c;
-      ch.face = f;
-      const Vec3 xa = X.row(a), xb = X.row(b), xc = X.row(c);
-      const Vec3 e = xb - xa;
-      const Vec3 foot = xa + e * ((xc - xa).dot(e) / e.squaredNorm());
-      ch.ghost = 2.0 * foot - xc;
-      Vec12 x;
-      x << xa, xb, xc, ch.ghost;
-      ch.rest.rest_angle = dihedral_angle(x);
-      ch.rest.stiffness = hinge_stiffness(D, e.norm(), area[f] / 3.0);
-      m_clamps.push_back(ch);
-    }
-  }
+  if (m_mechanics.bending == BendingModel::ShapeOperator)
+    build_bends();
+  else
+    build_hinges();
 
   // --- supports: every connected part must be held against rigid motion -----------------------
   if (m_node_vertex.empty())
@@ -135,6 +104,9 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
       }
     for (int f = 0; f < nf; ++f) ++faces_of[find_root(parent, F(f, 0))];
     for (const ClampHinge& ch : m_clamps) clamped_part[find_root(parent, ch.v[0])] = true;
+    for (const ShellBend& b : m_bends)
+      for (int i = 0; i < 3; ++i)
+        if (b.rest.across[i] == PatchNode::Ghost) clamped_part[find_root(parent, F(b.face, 0))] = true;
     if (!any_fixed)
       throw SolveError(
           "the model is not supported: no fixed vertices, so a rigid motion is possible (add a support "
@@ -198,11 +170,94 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   std::vector<BlockAssembly::ElementNodes> element_nodes;
   element_nodes.reserve(num_elements());
   auto node = [&](int v) { return m_vertex_node[v]; };
-  for (int f = 0; f < nf; ++f) element_nodes.push_back({node(F(f, 0)), node(F(f, 1)), node(F(f, 2)), -1});
+  auto node_or_none = [&](int v) { return v < 0 ? -1 : m_vertex_node[v]; };
+  for (int f = 0; f < nf; ++f) element_nodes.push_back(BlockAssembly::nodes({node(F(f, 0)), node(F(f, 1)), node(F(f, 2))}));
+  for (const ShellBend& b : m_bends) {
+    BlockAssembly::ElementNodes en;
+    for (int a = 0; a < 6; ++a) en[a] = node_or_none(b.v[a]);
+    element_nodes.push_back(en);
+  }
   for (const ShellHinge& h : m_hinges)
-    element_nodes.push_back({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])});
-  for (const ClampHinge& c : m_clamps) element_nodes.push_back({node(c.v[0]), node(c.v[1]), node(c.v[2]), -1});
+    element_nodes.push_back(BlockAssembly::nodes({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])}));
+  for (const ClampHinge& c : m_clamps)
+    element_nodes.push_back(BlockAssembly::nodes({node(c.v[0]), node(c.v[1]), node(c.v[2])}));
   m_assembly = BlockAssembly(num_nodes(), element_nodes);
+}
+
+bool ShellModel::edge_clamped(int a, int b) const { return m_load_case.clamped[a] && m_load_case.clamped[b]; }
+
+void ShellModel::build_bends() {
+  const SurfaceMesh& mesh = *m_mesh;
+  const RowMatX3d& X = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  const int nf = mesh.num_faces();
+  m_bends.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    ShellBend& b = m_bends[f];
+    b.face = f;
+    std::array<Vec3, 6> rest;
+    std::array<PatchNode, 3> across = {PatchNode::Free, PatchNode::Free, PatchNode::Free};
+    for (int k = 0; k < 3; ++k) {
+      b.v[k] = F(f, k);
+      rest[k] = X.row(F(f, k)).transpose();
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int a = F(f, (i + 1) % 3), c = F(f, (i + 2) % 3);
+      const int e = mesh.face_edges()(f, (i + 1) % 3);
+      const int g = mesh.edge_faces()(e, 0) == f ? mesh.edge_faces()(e, 1) : mesh.edge_faces()(e, 0);
+      if (edge_clamped(a, c)) {
+        across[i] = PatchNode::Ghost;
+      } else if (g >= 0) {
+        int opposite = -1;
+        for (int k = 0; k < 3; ++k)
+          if (F(g, k) != a && F(g, k) != c) opposite = F(g, k);
+        across[i] = PatchNode::Vertex;
+        b.v[3 + i] = opposite;
+        rest[3 + i] = X.row(opposite).transpose();
+      }
+    }
+    b.rest = shape_operator_rest(rest, across, m_material.poisson_ratio);
+  }
+}
+
+void ShellModel::build_hinges() {
+  const SurfaceMesh& mesh = *m_mesh;
+  const RowMatX3d& X = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  const Eigen::VectorXd& area = mesh.face_areas();
+  const double D = m_stiffness.bending;
+  for (const Hinge& h : mesh.hinges()) {
+    if (edge_clamped(h.v[0], h.v[1])) continue;  // replaced by a clamp hinge on each side
+    ShellHinge sh;
+    std::copy(h.v, h.v + 4, sh.v);
+    sh.face[0] = h.face[0];
+    sh.face[1] = h.face[1];
+    Vec12 x;
+    for (int k = 0; k < 4; ++k) x.segment<3>(3 * k) = X.row(h.v[k]).transpose();
+    sh.rest.rest_angle = dihedral_angle(x);
+    const double edge_length = (X.row(h.v[1]) - X.row(h.v[0])).norm();
+    sh.rest.stiffness = hinge_stiffness(D, edge_length, (area[h.face[0]] + area[h.face[1]]) / 3.0);
+    m_hinges.push_back(sh);
+  }
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3), c = F(f, (k + 2) % 3);
+      // A clamp hinge only acts through the free opposite vertex; with c fixed too it is inert.
+      if (!edge_clamped(a, b) || m_fixed[c]) continue;
+      ClampHinge ch;
+      ch.v[0] = a;
+      ch.v[1] = b;
+      ch.v[2] = c;
+      ch.face = f;
+      const Vec3 xa = X.row(a), xb = X.row(b), xc = X.row(c);
+      ch.ghost = ghost_point(xa, xb, xc);
+      Vec12 x;
+      x << xa, xb, xc, ch.ghost;
+      ch.rest.rest_angle = dihedral_angle(x);
+      ch.rest.stiffness = hinge_stiffness(D, (xb - xa).norm(), area[f] / 3.0);
+      m_clamps.push_back(ch);
+    }
+  }
 }
 
 RowMatX3d ShellModel::external_forces(const Eigen::VectorXd& alpha) const {

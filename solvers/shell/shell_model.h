@@ -2,25 +2,30 @@
 /// The discrete shell of §5.1–§5.2 on one simulation mesh: elements, supports, loads, DOF numbering
 /// and the assembly pattern — everything that is fixed while fill ratios and positions change.
 ///
-/// Elements (indexed in this order by the assembly: membranes, hinges, clamp hinges):
+/// Elements (indexed in this order by the assembly: membranes, then the bending elements of the
+/// scene's bending model — MechanicsSettings::bending):
 ///   - one CST membrane per face (membrane_energy.h), scaled by α_f (9);
-///   - one bending hinge per interior edge (hinge_energy.h), scaled by √(α_i α_j) (10);
-///   - one clamp hinge per (face, edge) whose two edge vertices are both clamped.
+///   - shape_operator (default): one bending element per face over the face and its edge neighbours
+///     (shape_operator_energy.h), Kirchhoff's energy with the material's ν, scaled by α_f;
+///   - hinge (the paper's model): one hinge per interior edge (hinge_energy.h), scaled by √(α_i α_j)
+///     (10), and one clamp hinge per (face, edge) whose two edge vertices are both clamped.
 ///
 /// Supports. A pinned vertex is fixed in space: its three DOFs are eliminated (the assembled system
-/// is the reduced one over the free vertices). A clamp must also stop the surface from rotating
-/// about the support line. On a hinge shell, rotations live on the hinges, so a clamp is realised
-/// along edges: for every face f with an edge (a, b) whose two vertices are clamped, a one-sided
-/// clamp hinge (a, b, c, g) bends face f against a ghost point g, the mirror image of f's third
-/// vertex c across the edge in f's rest plane — g continues the rest surface tangentially and is
-/// fixed in space, so the clamp holds the rest tangent plane along the edge. Its stiffness uses the
-/// hinge area Ā = A_f/3 (the physical third of the hinge's diamond): with a fixed ghost, the
-/// dihedral angle at a clamped edge is half that of the mirror-symmetric (w(−s) = w(s)) continuation,
-/// which carries twice the physical energy over twice the area, hence k = (D/6)|ē|²/(A_f/3). An
-/// interior edge with both vertices clamped gets a clamp hinge on each side and loses its ordinary
-/// hinge (each side is then a clamped boundary). A clamped vertex without a clamped neighbour along
-/// an edge cannot hold a rotation on a hinge shell and acts as a pin. The clamped plate test
-/// (tests/solvers/equilibrium/plate_theory_test.cpp) checks this construction against Kirchhoff.
+/// is the reduced one over the free vertices); a pinned edge is a simple support (moment-free: a
+/// face's patch across it is condensed like a free edge's). A clamp must also stop the surface from
+/// rotating about the support line: for every face f with an edge (a, b) whose two vertices are
+/// clamped, a ghost point continues the surface across the edge. With the shape operator, the ghost
+/// takes the place of the neighbour node across (a, b) in f's patch and mirrors f's third vertex c
+/// evenly across the edge (shape_operator_energy.h), so the patch holds the rest tangent plane along
+/// the edge. With hinges, a one-sided clamp hinge (a, b, c, g) bends f against the fixed ghost g —
+/// the mirror image of c across the edge in f's rest plane — with
+/// the hinge area Ā = A_f/3 (the physical third of the hinge's diamond): with a fixed ghost, the
+/// dihedral angle at a clamped edge is half that of the mirror-symmetric (w(−s) = w(s))
+/// continuation, which carries twice the physical energy over twice the area, hence
+/// k = (D/6)|ē|²/(A_f/3). An interior edge with both vertices clamped is a clamped boundary on each
+/// side (ghosts on both sides; no ordinary hinge). A clamped vertex without a clamped neighbour along
+/// an edge cannot hold a rotation and acts as a pin. The plate tests
+/// (tests/solvers/equilibrium/plate_theory_test.cpp) check both constructions against Kirchhoff.
 /// A clamp hinge is scaled by its face's α_f (its ghost half carries no material).
 ///
 /// Loads: LoadCase::forces are dead loads (N per vertex, constant in x and α); self-weight of face
@@ -29,6 +34,7 @@
 ///
 /// DOF numbering: the free vertices, in vertex order, are nodes 0..n−1; node k owns free DOFs
 /// 3k, 3k+1, 3k+2 (x, y, z). Positions are #V×3 row-major arrays (metres) in vertex order.
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -39,6 +45,7 @@
 #include "solvers/linear/block_assembly.h"
 #include "solvers/shell/hinge_energy.h"
 #include "solvers/shell/membrane_energy.h"
+#include "solvers/shell/shape_operator_energy.h"
 #include "solvers/shell/shell_material.h"
 
 namespace cutwork::solvers {
@@ -59,13 +66,26 @@ struct ClampHinge {
   HingeRest rest;
 };
 
-/// Per-element energies at unit fill ratio (J): A Ψ per face, k(θ−θ̄)² per hinge and clamp hinge.
-/// The stenciled energies are these times α_f, √(α_i α_j) and α_f.
-struct ElementEnergies {
-  Eigen::VectorXd membrane;  ///< #F
-  Eigen::VectorXd hinge;     ///< #hinges
-  Eigen::VectorXd clamp;     ///< #clamp hinges
+/// Shape-operator bending element of face `face`: patch vertices in the DOF order of
+/// shape_operator_energy.h (v[3+i] = −1 across a free or clamped edge: rest.across says which).
+struct ShellBend {
+  int v[6] = {-1, -1, -1, -1, -1, -1};
+  int face = -1;
+  ShapeOperatorRest rest;
 };
+
+enum class ElementKind { Membrane, Bend, Hinge, Clamp };
+
+/// An element of the model: its kind and its index among the elements of that kind.
+struct ElementRef {
+  ElementKind kind;
+  int index;
+};
+
+/// Per-element energies at unit fill ratio (J), indexed like the model's elements: A Ψ per membrane,
+/// the bending energy per shape-operator element, k(θ−θ̄)² per hinge and clamp hinge. The stencilled
+/// energies are these times the element's fill factor (element_fill_factor in shell_energy.h).
+using ElementEnergies = Eigen::VectorXd;
 
 class ShellModel {
  public:
@@ -77,11 +97,15 @@ class ShellModel {
   ///     support or with only collinear, unclamped supports (a rigid motion is possible);
   ///   - non-finite forces or gravity;
   ///   - a load case that loads no free vertex (zero load) or loads a vertex of no face.
-  ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case);
+  ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case,
+             const MechanicsSettings& mechanics = {});
 
   const SurfaceMesh& mesh() const { return *m_mesh; }
   const Material& material() const { return m_material; }
   const ShellStiffness& stiffness() const { return m_stiffness; }
+  const MechanicsSettings& mechanics() const { return m_mechanics; }
+  /// Ĉ of shape_operator_energy.h for the material's ν.
+  const Eigen::Matrix3d& bending_constitutive() const { return m_bending_constitutive; }
   const LoadCase& load_case() const { return m_load_case; }
 
   int num_vertices() const { return m_mesh->num_vertices(); }
@@ -102,9 +126,20 @@ class ShellModel {
   double model_size() const { return m_model_size; }
 
   const std::vector<MembraneRest>& membranes() const { return m_membranes; }
+  const std::vector<ShellBend>& bends() const { return m_bends; }
   const std::vector<ShellHinge>& hinges() const { return m_hinges; }
   const std::vector<ClampHinge>& clamp_hinges() const { return m_clamps; }
-  int num_elements() const { return int(m_membranes.size() + m_hinges.size() + m_clamps.size()); }
+  int num_elements() const {
+    return int(m_membranes.size() + m_bends.size() + m_hinges.size() + m_clamps.size());
+  }
+  /// Kind and index of element e ∈ [0, num_elements()): membranes, bends, hinges, clamp hinges.
+  ElementRef element(int e) const {
+    const int nf = int(m_membranes.size()), nb = int(m_bends.size()), nh = int(m_hinges.size());
+    if (e < nf) return {ElementKind::Membrane, e};
+    if (e < nf + nb) return {ElementKind::Bend, e - nf};
+    if (e < nf + nb + nh) return {ElementKind::Hinge, e - nf - nb};
+    return {ElementKind::Clamp, e - nf - nb - nh};
+  }
 
   /// Pattern, scatter map and colouring of the reduced Hessian (built once).
   const BlockAssembly& assembly() const { return m_assembly; }
@@ -124,15 +159,22 @@ class ShellModel {
   void check_fill_ratios(const Eigen::VectorXd& alpha) const;
 
  private:
+  bool edge_clamped(int a, int b) const;
+  void build_bends();
+  void build_hinges();
+
   std::shared_ptr<const SurfaceMesh> m_mesh;
   Material m_material;
   ShellStiffness m_stiffness;
+  MechanicsSettings m_mechanics;
+  Eigen::Matrix3d m_bending_constitutive;
   LoadCase m_load_case;
   std::vector<bool> m_fixed;
   std::vector<int> m_vertex_node;
   std::vector<int> m_node_vertex;
   double m_model_size = 0;
   std::vector<MembraneRest> m_membranes;
+  std::vector<ShellBend> m_bends;
   std::vector<ShellHinge> m_hinges;
   std::vector<ClampHinge> m_clamps;
   BlockAssembly m_assembly;

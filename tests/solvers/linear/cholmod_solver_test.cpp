@@ -15,10 +15,10 @@ namespace {
 
 /// A random 3-DOF-per-node "mesh" of elements over `nodes` nodes, with some DOF-less slots.
 std::vector<BlockAssembly::ElementNodes> random_elements(int nodes, int count, std::mt19937& rng) {
-  std::uniform_int_distribution<int> pick(0, nodes - 1), size(2, 4), missing(0, 5);
+  std::uniform_int_distribution<int> pick(0, nodes - 1), size(2, BlockAssembly::kMaxNodes), missing(0, 5);
   std::vector<BlockAssembly::ElementNodes> elements;
   for (int e = 0; e < count; ++e) {
-    BlockAssembly::ElementNodes n{-1, -1, -1, -1};
+    BlockAssembly::ElementNodes n = BlockAssembly::nodes({});
     const int k = size(rng);
     for (int i = 0; i < k; ++i) {
       int c;
@@ -39,12 +39,13 @@ void assemble_random(const BlockAssembly& a, const std::vector<BlockAssembly::El
   values.assign(std::size_t(a.num_nonzeros()), 0.0);
   dense = Eigen::MatrixXd::Zero(a.num_dofs(), a.num_dofs());
   for (int e = 0; e < int(elements.size()); ++e) {
-    Eigen::Matrix<double, 12, 12> B;
-    for (int i = 0; i < 144; ++i) B.data()[i] = n(rng);
-    const Eigen::Matrix<double, 12, 12> local = B * B.transpose();
-    a.scatter_matrix<4>(e, local, values.data());
-    for (int p = 0; p < 4; ++p)
-      for (int q = 0; q < 4; ++q)
+    constexpr int K = BlockAssembly::kMaxNodes;
+    Eigen::Matrix<double, 3 * K, 3 * K> B;
+    for (int i = 0; i < B.size(); ++i) B.data()[i] = n(rng);
+    const Eigen::Matrix<double, 3 * K, 3 * K> local = B * B.transpose();
+    a.scatter_matrix<K>(e, local, values.data());
+    for (int p = 0; p < K; ++p)
+      for (int q = 0; q < K; ++q)
         if (elements[e][p] >= 0 && elements[e][q] >= 0)
           dense.block<3, 3>(3 * elements[e][p], 3 * elements[e][q]) += local.block<3, 3>(3 * p, 3 * q);
   }
@@ -130,7 +131,7 @@ TEST(CholmodSolver, FactorizesAndSolvesLikeDenseCholesky) {
 
 TEST(CholmodSolver, ReportsIndefiniteMatricesAndMisuse) {
   // A 2×2-block (6 DOF) matrix with a negative eigenvalue.
-  const std::vector<BlockAssembly::ElementNodes> elements{{0, 1, -1, -1}};
+  const std::vector<BlockAssembly::ElementNodes> elements{BlockAssembly::nodes({0, 1})};
   const BlockAssembly a(2, elements);
   Eigen::Matrix<double, 6, 6> local = Eigen::Matrix<double, 6, 6>::Identity();
   local(4, 4) = -2.0;

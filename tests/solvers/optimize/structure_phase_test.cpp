@@ -43,7 +43,7 @@ void check_joint_gradient(const char* objective, unsigned seed) {
   for (auto& s : layout) s.angle = rng.uniform(-0.3, 0.3);
   NewtonSettings newton;
   newton.residual_tolerance = 1e-12;  // FD of S resolves x(α) to what Newton converged to
-  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material, lc, ctx.shapes(), ctx.surface().field(), {},
+  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material, scene.mechanics, lc, ctx.shapes(), ctx.surface().field(), {},
                         newton);
   shell.set_stencils(layout_params(layout));
   shell.equilibrate();

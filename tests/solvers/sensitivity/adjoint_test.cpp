@@ -18,8 +18,13 @@
 namespace cutwork::solvers {
 namespace {
 
+const BendingModel kBendingModels[] = {BendingModel::ShapeOperator, BendingModel::Hinge};
+const char* bending_name(BendingModel b) { return b == BendingModel::Hinge ? "hinge" : "shape operator"; }
+
 TEST(FillRatioPartials, MatchCentralDifferencesAtFixedPositions) {
-  test::CapFixture fx(31);
+ for (BendingModel bending : kBendingModels) {
+  SCOPED_TRACE(bending_name(bending));
+  test::CapFixture fx(31, bending);
   const ShellModel& model = *fx.model;
   const RowMatX3d x = fx.perturbed(32);
   const Eigen::VectorXd& a0 = fx.alpha;
@@ -46,6 +51,7 @@ TEST(FillRatioPartials, MatchCentralDifferencesAtFixedPositions) {
   for (int i = 0; i < lambda.size(); ++i) lambda[i] = n(rng);
   const Eigen::VectorXd product = force_alpha_product(model, x, a0, lambda);
   EXPECT_LE((product - J.transpose() * lambda).norm(), 1e-12 * product.norm());
+ }
 }
 
 /// Objectives of the kinds the optimiser uses, each with its exact partials.
@@ -82,7 +88,9 @@ std::vector<std::pair<std::string, StructuralObjective>> objectives() {
 TEST(AdjointSensitivity, MatchesCentralDifferencesOfTheEquilibrium) {
   // Threading fixed: everything runs in a one-thread arena.
   tbb::task_arena(1).execute([] {
-  test::CapFixture fx(39);
+ for (BendingModel bending : kBendingModels) {
+  SCOPED_TRACE(bending_name(bending));
+  test::CapFixture fx(39, bending);
   const ShellModel& model = *fx.model;
   NewtonSettings settings;
   settings.residual_tolerance = 1e-12;
@@ -90,7 +98,7 @@ TEST(AdjointSensitivity, MatchesCentralDifferencesOfTheEquilibrium) {
   const EquilibriumStats& stats = solver.solve(fx.alpha);
   ASSERT_TRUE(stats.stable);
   const double umax = solver.max_displacement();
-  std::cout << "adjoint fixture: max displacement " << umax << " m (" << umax / test::pa12().thickness
+  std::cout << bending_name(bending) << " adjoint fixture: max displacement " << umax << " m (" << umax / test::pa12().thickness
             << " h), " << stats.newton_iterations << " Newton iterations\n";
   EXPECT_GT(umax, 0.3 * test::pa12().thickness);  // geometrically nonlinear on purpose
 
@@ -122,6 +130,7 @@ TEST(AdjointSensitivity, MatchesCentralDifferencesOfTheEquilibrium) {
                               << c.table();
     }
   }
+ }
   });
 }
 

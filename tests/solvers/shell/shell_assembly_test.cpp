@@ -33,7 +33,8 @@ struct Fixture {
   RowMatX3d x;
   Eigen::VectorXd alpha;
 
-  explicit Fixture(unsigned seed, int nx = 6) : mesh(test::cap(1.0, 0.8, nx, 0.15)) {
+  explicit Fixture(unsigned seed, int nx = 6, BendingModel bending = BendingModel::ShapeOperator)
+      : mesh(test::cap(1.0, 0.8, nx, 0.15)) {
     const int nv = mesh.num_vertices();
     lc.fixed.assign(nv, false);
     lc.clamped.assign(nv, false);
@@ -44,7 +45,9 @@ struct Fixture {
     }
     lc.forces = test::pressure_forces(mesh, 3.0, Vec3(0, 0, -1));
     lc.gravity = Vec3(0, 0, -9.81);
-    model = std::make_unique<ShellModel>(mesh, test_material(), lc);
+    MechanicsSettings mech;
+    mech.bending = bending;
+    model = std::make_unique<ShellModel>(mesh, test_material(), lc, mech);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-1, 1), a(0.05, 1.0);
     x = mesh.vertices();
@@ -67,8 +70,15 @@ Eigen::MatrixXd dense_from_upper(const BlockAssembly& a, const std::vector<doubl
   return m;
 }
 
-TEST(ShellAssembly, GradientAndHessianMatchCentralDifferences) {
-  Fixture fx(21);
+/// Every assembly test runs on both bending models.
+class ShellAssemblyTest : public ::testing::TestWithParam<BendingModel> {};
+
+INSTANTIATE_TEST_SUITE_P(Bending, ShellAssemblyTest,
+                         ::testing::Values(BendingModel::ShapeOperator, BendingModel::Hinge),
+                         [](const auto& info) { return info.param == BendingModel::Hinge ? "Hinge" : "ShapeOperator"; });
+
+TEST_P(ShellAssemblyTest, GradientAndHessianMatchCentralDifferences) {
+  Fixture fx(21, 6, GetParam());
   const ShellModel& model = *fx.model;
   ShellAssembly a;
   assemble_shell(model, fx.x, fx.alpha, true, a);
@@ -94,8 +104,8 @@ TEST(ShellAssembly, GradientAndHessianMatchCentralDifferences) {
   EXPECT_LE(ch.best, 1e-6) << ch.table();
 }
 
-TEST(ShellAssembly, MatchesBruteForceDenseAssembly) {
-  Fixture fx(22);
+TEST_P(ShellAssemblyTest, MatchesBruteForceDenseAssembly) {
+  Fixture fx(22, 6, GetParam());
   const ShellModel& model = *fx.model;
   ShellAssembly a;
   assemble_shell(model, fx.x, fx.alpha, true, a);
@@ -123,6 +133,14 @@ TEST(ShellAssembly, MatchesBruteForceDenseAssembly) {
     add({F(f, 0), F(f, 1), F(f, 2)}, membrane_gradient(xe, model.membranes()[f], k.mu, k.lambda, fx.alpha[f]),
         membrane_hessian(xe, model.membranes()[f], k.mu, k.lambda, fx.alpha[f]));
   }
+  for (const ShellBend& b : model.bends()) {
+    const Vec18 xe = bend_positions(b, fx.x);
+    Vec18 ge;
+    Mat18 he;
+    shape_operator_energy_gradient_hessian(xe, b.rest, model.bending_constitutive(), fx.alpha[b.face] * k.bending,
+                                           nullptr, &ge, &he);
+    add({b.v[0], b.v[1], b.v[2], b.v[3], b.v[4], b.v[5]}, ge, he);
+  }
   for (const ShellHinge& h : model.hinges()) {
     const double s = hinge_fill_factor(h, fx.alpha);
     const Vec12 xe = hinge_positions(h, fx.x);
@@ -135,11 +153,18 @@ TEST(ShellAssembly, MatchesBruteForceDenseAssembly) {
   }
   EXPECT_LE((g - a.gradient).norm(), 1e-12 * g.norm());
   EXPECT_LE((H - dense_from_upper(model.assembly(), a.hessian)).norm(), 1e-12 * H.norm());
-  EXPECT_GT(model.clamp_hinges().size(), 0u);
+  if (GetParam() == BendingModel::Hinge) {
+    EXPECT_GT(model.clamp_hinges().size(), 0u);
+  } else {
+    int ghosts = 0;
+    for (const ShellBend& b : model.bends())
+      for (PatchNode p : b.rest.across) ghosts += p == PatchNode::Ghost;
+    EXPECT_GT(ghosts, 0);
+  }
 }
 
-TEST(ShellAssembly, BitwiseIndependentOfThreadCount) {
-  Fixture fx(23, 60);  // ~4k faces: colours large enough to be split across threads
+TEST_P(ShellAssemblyTest, BitwiseIndependentOfThreadCount) {
+  Fixture fx(23, 60, GetParam());  // ~4k faces: colours large enough to be split across threads
   ShellAssembly one, many;
   tbb::task_arena(1).execute([&] { assemble_shell(*fx.model, fx.x, fx.alpha, true, one); });
   {
@@ -152,13 +177,15 @@ TEST(ShellAssembly, BitwiseIndependentOfThreadCount) {
   EXPECT_TRUE(one.hessian == many.hessian);
 }
 
-TEST(ShellPatch, RigidMotionsHaveZeroEnergyAndForce) {
-  // Pinned supports only: a clamp hinge's ghost point is attached to the world, so a clamped model
-  // is (rightly) not invariant under rigid motions of its own vertices.
-  Fixture fx(24);
+TEST_P(ShellAssemblyTest, RigidMotionsHaveZeroEnergyAndForce) {
+  // Pinned supports only: a clamp's ghost point is attached to the world, so a clamped model is
+  // (rightly) not invariant under rigid motions of its own vertices.
+  Fixture fx(24, 6, GetParam());
   LoadCase lc = fx.lc;
   lc.clamped.assign(lc.clamped.size(), false);
-  const ShellModel model(fx.mesh, test_material(), lc);
+  MechanicsSettings mech;
+  mech.bending = GetParam();
+  const ShellModel model(fx.mesh, test_material(), lc, mech);
   ASSERT_TRUE(model.clamp_hinges().empty());
   const double mu = model.stiffness().mu;
   const double area = model.mesh().face_areas().sum();

@@ -28,7 +28,7 @@ struct CapFixture {
   std::unique_ptr<ShellModel> model;
   Eigen::VectorXd alpha;
 
-  explicit CapFixture(unsigned seed) {
+  explicit CapFixture(unsigned seed, BendingModel bending = BendingModel::ShapeOperator) {
     const int nv = mesh.num_vertices();
     lc.fixed.assign(nv, false);
     lc.clamped.assign(nv, false);
@@ -39,7 +39,9 @@ struct CapFixture {
     }
     lc.forces = test::pressure_forces(mesh, 400.0, Vec3(0.2, 0, -1).normalized());
     lc.gravity = Vec3(0, 0, -9.81);
-    model = std::make_unique<ShellModel>(mesh, pa12(), lc);
+    MechanicsSettings mech;
+    mech.bending = bending;
+    model = std::make_unique<ShellModel>(mesh, pa12(), lc, mech);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> a(0.2, 1.0);
     alpha.resize(mesh.num_faces());

@@ -1,6 +1,9 @@
 #pragma once
 /// Flat test meshes built directly from arrays (no scene code): rectangles in the z = 0 plane,
 /// counter-clockwise seen from +z (normals +z).
+#include <algorithm>
+#include <cmath>
+#include <string>
 #include <vector>
 
 #include "host/mesh/surface_mesh.h"
@@ -105,6 +108,96 @@ inline SurfaceMesh cap(double lx, double ly, int nx, double height) {
     V(v, 2) = height * (1 - r2 / r2max);
   }
   return SurfaceMesh(V, flat.faces(), "cap");
+}
+
+}  // namespace cutwork::test
+
+namespace cutwork::test {
+
+/// Annulus r_in ≤ r ≤ r_out in the z = 0 plane (a disc when r_in = 0: a centre vertex), meshed in
+/// rings of near-equilateral triangles with edge length ≈ h: ring radii evenly spaced, each ring
+/// with round(2π r / h) vertices (at least 6), alternate rings staggered by half a step; a disc
+/// (r_in = 0) is a hexagonal lattice bent onto rings (6j vertices on ring j). Normals +z.
+inline SurfaceMesh annulus(double r_in, double r_out, double h) {
+  const int nr = std::max(1, int(std::lround((r_out - r_in) / (h * std::sqrt(3.0) / 2.0))));
+  std::vector<Vec3> verts;
+  std::vector<std::vector<int>> rings;
+  std::vector<double> step, offset;
+  for (int j = 0; j <= nr; ++j) {
+    const double r = r_in + (r_out - r_in) * j / nr;
+    std::vector<int> ring;
+    if (r == 0) {
+      ring.push_back(int(verts.size()));
+      verts.emplace_back(0, 0, 0);
+      step.push_back(2 * M_PI);
+      offset.push_back(0);
+    } else {
+      // A disc is a hexagonal lattice bent onto rings (ring j has 6j vertices, aligned per 60°
+      // sector): near-equilateral everywhere, the centre included.
+      const int n = r_in == 0 ? 6 * j : std::max(6, int(std::lround(2 * M_PI * r / h)));
+      step.push_back(2 * M_PI / n);
+      offset.push_back(r_in == 0 || j % 2 == 0 ? 0.0 : 0.5 * step.back());
+      for (int i = 0; i < n; ++i) {
+        const double t = offset.back() + step.back() * i;
+        ring.push_back(int(verts.size()));
+        verts.emplace_back(r * std::cos(t), r * std::sin(t), 0);
+      }
+    }
+    rings.push_back(ring);
+  }
+  std::vector<Eigen::Vector3i> faces;
+  auto add = [&](int a, int b, int c) {
+    const Vec3 n = (verts[b] - verts[a]).cross(verts[c] - verts[a]);
+    if (n.z() > 0)
+      faces.emplace_back(a, b, c);
+    else
+      faces.emplace_back(a, c, b);
+  };
+  for (int j = 0; j < nr; ++j) {
+    const auto& A = rings[j];
+    const auto& B = rings[j + 1];
+    const int na = int(A.size()), nb = int(B.size());
+    if (na == 1) {
+      for (int k = 0; k < nb; ++k) add(A[0], B[k], B[(k + 1) % nb]);
+      continue;
+    }
+    int i = 0, k = 0;
+    while (i < na || k < nb) {
+      const double ta = offset[j] + step[j] * (i + 1), tb = offset[j + 1] + step[j + 1] * (k + 1);
+      if (k >= nb || (i < na && ta <= tb)) {
+        add(A[i % na], A[(i + 1) % na], B[k % nb]);
+        ++i;
+      } else {
+        add(A[i % na], B[(k + 1) % nb], B[k % nb]);
+        ++k;
+      }
+    }
+  }
+  RowMatX3d V(verts.size(), 3);
+  for (std::size_t v = 0; v < verts.size(); ++v) V.row(v) = verts[v].transpose();
+  RowMatX3i F(faces.size(), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) F.row(f) = faces[f].transpose();
+  return SurfaceMesh(V, F, "annulus");
+}
+
+/// The mesh with every interior vertex moved in its plane (z = 0 meshes) by a uniform random
+/// offset of up to `amount` times the mean edge length in x and y (fixed seed): an irregular mesh
+/// with the same connectivity.
+inline SurfaceMesh jittered(const SurfaceMesh& mesh, double amount, unsigned seed) {
+  RowMatX3d V = mesh.vertices();
+  const double h = mesh.mean_edge_length();
+  unsigned state = seed * 2654435761u + 12345u;
+  auto uniform = [&] {
+    state = state * 1664525u + 1013904223u;
+    return double(state >> 8) / double(1u << 24) * 2.0 - 1.0;
+  };
+  for (int v = 0; v < V.rows(); ++v) {
+    const double dx = uniform(), dy = uniform();
+    if (mesh.is_boundary_vertex()[v]) continue;
+    V(v, 0) += amount * h * dx;
+    V(v, 1) += amount * h * dy;
+  }
+  return SurfaceMesh(V, mesh.faces(), "jittered " + std::string("mesh"));
 }
 
 }  // namespace cutwork::test
