@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "host/shapes/shapes.h"
 #include "solvers/shell/shape_operator_energy.h"
 #include "solvers/shell/shell_energy.h"
 #include "tests/solvers/support/finite_difference.h"
@@ -109,6 +110,32 @@ TEST(ShapeOperatorEnergy, RigidMotionsAndInPlaneStretchCostNothing) {
     Vec18 x;
     for (int a = 0; a < 6; ++a) x.segment<3>(3 * a) = R * stretch * p.rest[a] + Vec3(3, -1, 2);
     EXPECT_LT(shape_operator_strain(x, rest).norm(), 1e-12);
+  }
+}
+
+TEST(ShapeOperatorEnergy, CurvedRestShapesKeepTheirRestCurvature) {
+  // Every built-in shape at its simulation resolution, clamped along part of its boundary (ghosts
+  // included): zero bending energy and force at rest, and a nonzero rest curvature where curved.
+  for (const ShapeInfo& info : builtin_shapes()) {
+    const SurfaceMesh mesh = generate_shape(info.name, {}, info.sim_edge_length);
+    LoadCase lc;
+    lc.fixed.assign(mesh.num_vertices(), false);
+    lc.clamped.assign(mesh.num_vertices(), false);
+    const std::vector<int>& loop = mesh.boundary_loops().front();
+    for (std::size_t k = 0; k < loop.size() / 3; ++k) lc.clamped[loop[k]] = lc.fixed[loop[k]] = true;
+    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+    lc.gravity = Vec3(0, 0, -9.81);
+    const ShellModel model(mesh, Material{}, lc);
+    ShellAssembly a;
+    assemble_shell(model, mesh.vertices(), Eigen::VectorXd::Ones(mesh.num_faces()), false, a);
+    double curvature = 0;
+    for (const ShellBend& b : model.bends()) curvature = std::max(curvature, b.rest.rest_curvature.norm());
+    const double D = model.stiffness().bending, area = mesh.face_areas().sum();
+    SCOPED_TRACE(info.name);
+    // Scales: a curvature error of 1e-9/m would give D·1e-18 per area; forces D·1e-9/m per length.
+    EXPECT_LE(a.energy, 1e-18 * D * area);
+    EXPECT_LE(a.gradient.lpNorm<Eigen::Infinity>(), 1e-9 * D * std::sqrt(area));
+    if (info.name != "plate" && info.name != "sheet") EXPECT_GT(curvature, 0.1);
   }
 }
 
