@@ -28,6 +28,12 @@ constexpr double kCoordinateRoundoff = 1e-13;
 /// limit the load is clearly beyond capacity and iterating further is pointless.
 constexpr double kExplosionFactor = 10.0;
 
+/// A model whose stiffness at rest is singular: no load step can help, so it is never retried.
+class UnsupportedModel : public SolveError {
+ public:
+  using SolveError::SolveError;
+};
+
 }  // namespace
 
 EquilibriumSolver::EquilibriumSolver(const ShellModel& model, NewtonSettings settings)
@@ -92,7 +98,13 @@ double EquilibriumSolver::factorize_with_shift(int iteration) {
                    "definite): the model or its loads are degenerate");
 }
 
-void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest) {
+double EquilibriumSolver::trial_displacement() const {
+  return (m_trial - m_model.rest_positions()).rowwise().norm().maxCoeff();
+}
+
+void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest,
+                               int max_iterations) {
+  if (max_iterations < 0) max_iterations = m_settings.max_iterations;
   const ShellModel& model = m_model;
   const double load_norm = load.norm();
   const double size = model.model_size();
@@ -128,11 +140,11 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
 
     const double shift = factorize_with_shift(iteration);
     if (shift > 0 && from_rest && iteration == 0)
-      throw SolveError(
+      throw UnsupportedModel(
           "the model is not supported: its stiffness at rest is singular, so a mechanism or rigid "
           "motion is not held by the supports (add or clamp supports)");
     if (rel <= m_settings.residual_tolerance) return converge(shift, "residual");
-    if (iteration >= m_settings.max_iterations)
+    if (iteration >= max_iterations)
       throw SolveError(fmt::format(
           "Newton's method did not converge in {} iterations (force residual {:.2e} of the load); the "
           "load may exceed what the structure can carry",
@@ -207,13 +219,102 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     }
     x = xt;
     m_trial = candidate;
-    const double unew = (m_trial - model.rest_positions()).rowwise().norm().maxCoeff();
+    const double unew = trial_displacement();
     if (unew > kExplosionFactor * limit)
       throw SolveError(fmt::format(
           "the load exceeds what the structure can carry: the displacement grew to {:.3g} m during "
           "Newton's method, far beyond {:.0f}% of the model size ({:.3g} m)",
           unew, 100 * m_settings.max_displacement_ratio, size));
   }
+}
+
+void EquilibriumSolver::reach_equilibrium(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool warm) {
+  const ShellModel& model = m_model;
+  const double limit = m_settings.max_displacement_ratio * model.model_size();
+  auto too_far = [&] {
+    return SolveError(fmt::format(
+        "the load exceeds what the structure can carry: the displacement reached {:.3g} m, more than "
+        "{:.0f}% of the model size ({:.3g} m); reduce the loads, add supports or stiffen the design",
+        trial_displacement(), 100 * m_settings.max_displacement_ratio, model.model_size()));
+  };
+  if (m_settings.first_load_step < 1) {
+    m_trial = model.rest_positions();
+    return step_load(alpha, load);
+  }
+  try {
+    try {
+      newton(alpha, load, !warm);
+    } catch (const UnsupportedModel&) {
+      throw;
+    } catch (const SolveError& first) {
+      if (!warm || !m_settings.cold_restart) throw;
+      log(std::string("warm-started Newton failed (") + first.what() + "); restarting from the rest state");
+      m_stats.cold_restarted = true;
+      m_trial = model.rest_positions();
+      newton(alpha, load, true);
+    }
+    if (trial_displacement() > limit) throw too_far();
+  } catch (const UnsupportedModel&) {
+    throw;
+  } catch (const SolveError& plain) {
+    if (!m_settings.load_stepping) throw;
+    log(std::string("Newton at the full load failed (") + plain.what() + "); continuing by load steps from rest");
+    m_trial = model.rest_positions();
+    step_load(alpha, load);
+  }
+}
+
+void EquilibriumSolver::step_load(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load) {
+  const ShellModel& model = m_model;
+  const double size = model.model_size();
+  const double limit = m_settings.max_displacement_ratio * size;
+  const int step_iterations = std::min(m_settings.load_step_iterations, m_settings.max_iterations);
+  RowMatX3d carried = m_trial;  // the last equilibrium reached: rest, then each accepted step
+  double fraction = 0, step = std::clamp(m_settings.first_load_step, m_settings.min_load_step, 1.0);
+  int iterations = 0;
+  std::string why;
+  while (fraction < 1) {
+    const double target = std::min(1.0, fraction + step);
+    m_trial = carried;
+    bool ok = true;
+    try {
+      newton(alpha, target * load, fraction == 0, step_iterations);
+      if (trial_displacement() > limit) {
+        ok = false;
+        why = fmt::format("beyond it the displacement exceeds {:.0f}% of the model size",
+                          100 * m_settings.max_displacement_ratio);
+      }
+    } catch (const UnsupportedModel&) {
+      throw;
+    } catch (const SolveError&) {
+      ok = false;
+      why = "beyond it Newton's method finds no equilibrium (a limit point: the shell buckles, snaps "
+            "through or collapses)";
+    }
+    iterations += m_stats.newton_iterations;
+    if (ok) {
+      ++m_stats.load_steps;
+      fraction = target;
+      carried = m_trial;
+      step = std::min(2 * step, 1.0);
+      continue;
+    }
+    ++m_stats.failed_load_steps;
+    step /= 2;
+    if (step < m_settings.min_load_step) {
+      m_stats.newton_iterations = iterations;
+      m_trial = carried;
+      const double u = trial_displacement();
+      throw SolveError(fmt::format(
+          "the structure can carry only {:.1f}% of the load: at that fraction the largest displacement is "
+          "{:.3g} m ({:.1f}% of the model size {:.3g} m) and {} (load steps down to {:.2g} of the load "
+          "tried); reduce the loads, add supports or stiffen the design",
+          100 * fraction, u, 100 * u / size, size, why, m_settings.min_load_step));
+    }
+  }
+  m_stats.newton_iterations = iterations;
+  log(fmt::format("equilibrium reached in {} load steps ({} halved), {} Newton iterations", m_stats.load_steps,
+                  m_stats.failed_load_steps, iterations));
 }
 
 const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
@@ -236,22 +337,7 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
   m_stats.warm_started = warm;
   m_trial = m_x;
   try {
-    try {
-      newton(alpha, load, !warm);
-    } catch (const SolveError& first) {
-      if (!warm || !m_settings.cold_restart) throw;
-      log(std::string("warm-started Newton failed (") + first.what() + "); restarting from the rest state");
-      m_stats.cold_restarted = true;
-      m_trial = model.rest_positions();
-      newton(alpha, load, true);
-    }
-    const double umax = (m_trial - model.rest_positions()).rowwise().norm().maxCoeff();
-    const double limit = m_settings.max_displacement_ratio * model.model_size();
-    if (umax > limit)
-      throw SolveError(fmt::format(
-          "the load exceeds what the structure can carry: the displacement reached {:.3g} m, more than "
-          "{:.0f}% of the model size ({:.3g} m); reduce the loads, add supports or stiffen the design",
-          umax, 100 * m_settings.max_displacement_ratio, model.model_size()));
+    reach_equilibrium(alpha, load, warm);
   } catch (const SolveError&) {
     // Keep the last valid equilibrium, including the factor its adjoint needs.
     m_trial = m_x;

@@ -17,7 +17,15 @@
 /// load). A stiff membrane under a small load has internal forces whose round-off lies above that
 /// (≈ ε·E h·|X| per vertex); Newton then also stops when the Hessian is positive definite and the
 /// Newton step — the estimate of the remaining displacement error — is below 1e-10 of the largest
-/// displacement (or 1e-13 of the model size, the round-off of the coordinates). Failures are SolveErrors with a message a user can act on: a load that is zero or not
+/// displacement (or 1e-13 of the model size, the round-off of the coordinates).
+///
+/// Large deflections: when Newton at the full load fails (warm, then from rest), the solver
+/// continues by adaptive load steps from rest (NewtonSettings::load_stepping): each step starts at
+/// the last equilibrium reached, a converged step doubles the next, a failed one is halved. When
+/// the steps shrink below min_load_step the error names the fraction of the load carried and the
+/// displacement there relative to the model size.
+///
+/// Failures are SolveErrors with a message a user can act on: a load that is zero or not
 /// finite, an unconstrained model (ShellModel) or one that is singular at rest, displacements beyond
 /// max_displacement_ratio of the model size (a load beyond what the structure can carry), no
 /// convergence within max_iterations, or a line search that cannot reduce Π. After a failure the
@@ -43,6 +51,18 @@ struct NewtonSettings {
   double max_displacement_ratio = 0.25;
   /// Retry from the rest state when a warm-started solve fails.
   bool cold_restart = true;
+  /// When Newton cannot reach the equilibrium at the full load (large deflections), continue by
+  /// adaptive load steps from rest: each step starts from the last equilibrium reached, doubles
+  /// after a success and halves after a failure (Newton not converging within
+  /// load_step_iterations, or the displacement passing the limit above).
+  bool load_stepping = true;
+  /// Fraction of the load of the first attempt: 1 tries plain Newton at the full load first and
+  /// steps only when it fails; a smaller value starts stepping with this step.
+  double first_load_step = 1.0;
+  /// Newton iterations allowed per load step (a step that needs more is halved).
+  int load_step_iterations = 25;
+  /// Smallest load step (fraction of the full load) before giving up.
+  double min_load_step = 1.0 / 512;
   /// Receives one line per notable event (shifted factorisations, restarts); may be empty.
   std::function<void(const std::string&)> log;
 };
@@ -59,6 +79,10 @@ struct EquilibriumStats {
   int energy_evaluations = 0;       ///< line-search evaluations of Π
   bool warm_started = false;
   bool cold_restarted = false;
+  /// Accepted load steps when the equilibrium was reached by load stepping (0: plain Newton), and
+  /// the attempted steps that failed and were halved.
+  int load_steps = 0;
+  int failed_load_steps = 0;
   bool stable = true;               ///< the converged Hessian is positive definite
   /// Why Newton stopped when it converged: "residual" (‖∇Π‖/‖f_ext‖ ≤ residual_tolerance),
   /// "negligible_step" (the Newton step is at the round-off of the displacement) or "roundoff"
@@ -111,7 +135,16 @@ class EquilibriumSolver {
 
  private:
   /// Newton from m_trial; returns normally when converged (state in m_trial), throws otherwise.
-  void newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest);
+  /// At most `max_iterations` iterations (< 0: the setting).
+  void newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest,
+              int max_iterations = -1);
+  /// Plain Newton at the full load (warm, then cold), then load stepping; state in m_trial.
+  void reach_equilibrium(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool warm);
+  /// Adaptive load stepping from rest to the full load; state in m_trial, throws with the fraction
+  /// of the load carried when it cannot reach the full load.
+  void step_load(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load);
+  /// Largest displacement of the Newton iterate m_trial (m).
+  double trial_displacement() const;
   /// Factorises the assembled Hessian, shifting when needed. Returns the shift used.
   double factorize_with_shift(int iteration);
   void log(const std::string& line) const;
