@@ -19,7 +19,10 @@ using SetInt = void (*)(int);
 struct Controls {
   SetInt openblas_set_num_threads = nullptr;
   SetInt omp_set_max_active_levels = nullptr;
+  /// Stops OpenBLAS's worker threads (OpenBLAS starts them again on its next parallel call).
+  int (*blas_thread_shutdown)() = nullptr;
   Controls() {
+    blas_thread_shutdown = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
     openblas_set_num_threads = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
     omp_set_max_active_levels = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
   }
@@ -50,7 +53,7 @@ int thread_budget() {
 FactorizationThreads factorization_threads(double flops, int budget) {
   FactorizationThreads t;
   const bool large = flops >= parallel_factor_flops();
-  t.blas = large ? std::max(1, budget) : 1;
+  t.blas = large && budget >= kMinParallelBlasThreads ? budget : 1;
   t.openmp = large && budget >= CHOLMOD_OMP_NUM_THREADS ? CHOLMOD_OMP_NUM_THREADS : 1;
   return t;
 }
@@ -58,7 +61,12 @@ FactorizationThreads factorization_threads(double flops, int budget) {
 FactorizationThreads set_factorization_threads(double flops) {
   const FactorizationThreads t = factorization_threads(flops, thread_budget());
   const Controls& c = controls();
-  if (c.openblas_set_num_threads && g_blas_threads.exchange(t.blas) != t.blas) c.openblas_set_num_threads(t.blas);
+  if (c.openblas_set_num_threads && g_blas_threads.exchange(t.blas) != t.blas) {
+    c.openblas_set_num_threads(t.blas);
+    // OpenBLAS starts a worker per core when it loads, and idle workers spin on sched_yield for
+    // ~0.1 s before they sleep: stop them while BLAS is serial.
+    if (t.blas == 1 && c.blas_thread_shutdown) c.blas_thread_shutdown();
+  }
   const int levels = t.openmp > 1 ? 1 : 0;
   if (c.omp_set_max_active_levels && t_omp_levels != levels) {
     c.omp_set_max_active_levels(levels);

@@ -6,10 +6,15 @@
 /// TBB owns the cores. Its limit — `tbb::global_control` (the CLI's `--threads N`) or the calling
 /// task_arena (the benchmarks) — is the thread budget of the whole process. The other two pools get
 /// threads only while a factorisation is large enough to pay for them, and only up to the budget:
-///   - OpenBLAS: the budget when the factorisation has at least kParallelFactorFlops floating-point
-///     operations, else one thread. OpenBLAS's idle workers spin (sched_yield) for ~0.1 s after
-///     each parallel call, so a pool that is woken for sub-millisecond BLAS calls costs more system
-///     time than it saves; above the threshold one factorisation takes long enough to amortise it.
+///   - OpenBLAS: the budget when the factorisation has at least parallel_factor_flops()
+///     floating-point operations and the budget is at least kMinParallelBlasThreads, else one
+///     thread. OpenBLAS's idle workers spin (sched_yield) for ~0.1 s after each parallel call, so
+///     a pool that is woken for sub-millisecond BLAS calls costs more system time than it saves;
+///     above the threshold one factorisation takes long enough to amortise it. On two cores a
+///     second BLAS thread never paid: measured on the 2-core build machine (BM_Factorize_Threads,
+///     30k DOFs, 1.95 GFlop, METIS) 1 thread took 1.37 s and 0.14 s CPU, 2 threads 14.6 s and
+///     0.34 s CPU (the spinning peer waits for a core the other pools hold); the issue's own
+///     measurement found equal wall time at 40% more CPU.
 ///   - OpenMP: CHOLMOD 5 asks for a fixed team of CHOLMOD_OMP_NUM_THREADS (4) in its supernodal
 ///     copy loops, whatever omp_set_num_threads says. Those loops are memory-bound copies; on fewer
 ///     cores than that the team oversubscribes and spends its time in futex/spin waits. OpenMP
@@ -28,6 +33,8 @@ namespace cutwork::solvers {
 /// Floating-point operations of one factorisation from which OpenBLAS gets the thread budget
 /// (≈ 0.1 s of one core). Measured on the bench cap (bench/linear_benchmark.cpp, BM_Factorize_Threads).
 inline constexpr double kParallelFactorFlops = 2e9;
+/// Smallest thread budget at which OpenBLAS gets more than one thread (see above).
+inline constexpr int kMinParallelBlasThreads = 4;
 /// The threshold in force (kParallelFactorFlops unless set; the benchmarks move it to compare
 /// serial and parallel factorisations of one size: 0 always parallel, +∞ never).
 double parallel_factor_flops();

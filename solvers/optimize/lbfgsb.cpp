@@ -1,5 +1,6 @@
 #include "solvers/optimize/lbfgsb.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -46,8 +47,10 @@ class Tracker {
     return v;
   }
 
-  /// One accepted iterate.
-  void accepted(const Eigen::VectorXd& x, double f) {
+  /// One accepted iterate, `length` = ‖x − x_previous‖.
+  void accepted(const Eigen::VectorXd& x, double f, double length) {
+    m_result.last_step = length;
+    m_first_of_run = false;
     ++m_result.iterations;
     m_result.history.push_back(f);
     if (m_cb && !m_cb(m_result.iterations, x, f)) throw StopRequested{"callback"};
@@ -57,22 +60,42 @@ class Tracker {
 
   bool has_best() const { return m_has_best; }
 
+  /// A new LBFGSpp run (start or restart): its first step gets scaled.
+  void start_run() { m_first_of_run = true; }
+
+  /// The line search's first trial step along a direction of length `direction_norm`: LBFGSpp's
+  /// `step` except on a run's first iteration, where the step length is the last accepted one
+  /// (this call's, else options.first_step) when there is one.
+  double initial_step(double step, double step_max, double direction_norm) const {
+    if (!m_first_of_run || !(direction_norm > 0)) return step;
+    const double length = m_result.last_step > 0 ? m_result.last_step : m_first_step;
+    return length > 0 ? std::min(step_max, length / direction_norm) : step;
+  }
+  void set_first_step(double length) { m_first_step = length; }
+
  private:
   const LbfgsbObjective& m_f;
   const LbfgsbCallback& m_cb;
   int m_max_iterations;
   LbfgsbResult& m_result;
   bool m_has_best = false;
+  bool m_first_of_run = true;
+  double m_first_step = 0;
   bool m_cached = false;
   Eigen::VectorXd m_cache_x, m_cache_g;
   double m_cache_f = 0;
 };
 
-/// Moré–Thuente with a guaranteed decrease: if the search fails or returns a point that is not
-/// below the start (LBFGSpp accepts a step at the bound without the Armijo test), backtrack
-/// from the initial step by halving until the Armijo condition holds.
+/// Armijo backtracking with safeguarded quadratic interpolation, replacing LBFGSpp's Moré–Thuente
+/// search. The quasi-Newton step (step 1, or the step to the bound) is accepted as soon as it
+/// decreases f sufficiently — one evaluation per iteration in the common case. Moré–Thuente also
+/// insists on the strong curvature condition and, when a step is short, extrapolates by only 1.1×
+/// per evaluation; measured on the built-in designs that made 2.6 evaluations per iteration. The
+/// BFGS update stays safe without the curvature condition: LBFGSpp skips pairs with sᵀy ≤ ε yᵀy.
+/// The first step of a run is scaled (LBFGSpp's first direction has unit length): see
+/// LbfgsbOptions::first_step.
 template <typename Scalar>
-class MonotoneLineSearch {
+class ArmijoLineSearch {
   using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
 
  public:
@@ -83,35 +106,26 @@ class MonotoneLineSearch {
     const Scalar fx_init = fx;
     const Scalar dg_init = grad.dot(drt);
     if (!(dg_init < 0)) throw std::logic_error("the search direction is not a descent direction");
-    const Scalar step_init = step;
-    bool ok = true;
-    try {
-      LBFGSpp::LineSearchMoreThuente<Scalar>::LineSearch(f, fx, x, grad, step, step_max, drt, xp, param);
-    } catch (const NonFiniteValue&) {
-      ok = false;
-    } catch (const std::runtime_error&) {
-      ok = false;
-    }
-    if (!ok || !(fx <= fx_init + param.ftol * step * dg_init)) {
-      Scalar s = step_init;
-      bool found = false;
-      for (int k = 0; k < param.max_linesearch; ++k) {
-        s *= Scalar(0.5);
-        x.noalias() = xp + s * drt;
-        try {
-          fx = f(x, grad);
-        } catch (const NonFiniteValue&) {
-          continue;
-        }
-        if (fx <= fx_init + param.ftol * s * dg_init) {
-          found = true;
-          break;
-        }
+    step = f.initial_step(step, step_max, drt.norm());
+    for (int k = 0; k < param.max_linesearch; ++k) {
+      x.noalias() = xp + step * drt;
+      bool finite = true;
+      try {
+        fx = f(x, grad);
+      } catch (const NonFiniteValue&) {
+        finite = false;
       }
-      if (!found) throw std::runtime_error("no decrease along the search direction");
-      step = s;
+      if (finite && fx <= fx_init + param.ftol * step * dg_init) {
+        f.accepted(x, fx, step * drt.norm());
+        return;
+      }
+      // Minimiser of the parabola through φ(0), φ'(0) and φ(step), kept within [0.1, 0.5]·step.
+      Scalar next = Scalar(0.5) * step;
+      const Scalar curvature = fx - fx_init - dg_init * step;
+      if (finite && curvature > 0) next = -dg_init * step * step / (2 * curvature);
+      step = std::clamp(next, Scalar(0.1) * step, Scalar(0.5) * step);
     }
-    f.accepted(x, fx);
+    throw std::runtime_error("no decrease along the search direction");
   }
 };
 
@@ -127,6 +141,7 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
 
   LbfgsbResult result;
   Tracker tracker(f, callback, options.max_iterations, result);
+  tracker.set_first_step(options.first_step);
   Eigen::VectorXd x = x0.cwiseMax(lb).cwiseMin(ub);
   {
     Eigen::VectorXd g;
@@ -159,8 +174,9 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
 
   double best_at_restart = result.f;
   for (;;) {
-    LBFGSpp::LBFGSBSolver<double, MonotoneLineSearch> solver(param);
+    LBFGSpp::LBFGSBSolver<double, ArmijoLineSearch> solver(param);
     double fx = 0;
+    tracker.start_run();
     try {
       x = result.x;
       solver.minimize(tracker, x, fx, lb, ub);

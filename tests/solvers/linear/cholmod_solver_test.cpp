@@ -9,6 +9,10 @@
 #include "host/core/error.h"
 #include "solvers/linear/block_assembly.h"
 #include "solvers/linear/cholmod_solver.h"
+#include "solvers/linear/thread_policy.h"
+
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 namespace cutwork::solvers {
 namespace {
@@ -152,6 +156,23 @@ TEST(CholmodSolver, EveryOrderingSolvesTheSameSystem) {
     chol.solve(b.data(), x.data());
     EXPECT_LE((x - reference).norm(), 1e-10 * reference.norm()) << name;
   }
+  // The same with OpenBLAS parallel (a budget of four, the threshold at zero), after serial
+  // factorisations stopped its workers, and serial again.
+  const double threshold = parallel_factor_flops();
+  set_parallel_factor_flops(0);
+  for (int threads : {4, 1}) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      CholmodSolver chol;
+      chol.analyze(a.num_dofs(), a.column_starts(), a.row_indices());
+      ASSERT_TRUE(chol.factorize(values.data()));
+      Eigen::VectorXd x(b.size());
+      chol.solve(b.data(), x.data());
+      EXPECT_LE((x - reference).norm(), 1e-10 * reference.norm()) << threads << " threads";
+    });
+  }
+  set_parallel_factor_flops(threshold);
   // Automatic chooses by size.
   EXPECT_EQ(choose_ordering(kMetisFromDofs - 1), Ordering::Amd);
   EXPECT_EQ(choose_ordering(kMetisFromDofs), Ordering::Metis);

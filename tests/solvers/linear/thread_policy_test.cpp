@@ -16,7 +16,8 @@ TEST(ThreadPolicy, SerialBelowTheThresholdAndWithinTheBudgetAbove) {
   EXPECT_EQ(factorization_threads(small, 8).blas, 1);
   EXPECT_EQ(factorization_threads(small, 8).openmp, 1);
   EXPECT_EQ(factorization_threads(large, 1).blas, 1);
-  EXPECT_EQ(factorization_threads(large, 2).blas, 2);
+  EXPECT_EQ(factorization_threads(large, kMinParallelBlasThreads - 1).blas, 1);
+  EXPECT_EQ(factorization_threads(large, kMinParallelBlasThreads).blas, kMinParallelBlasThreads);
   // CHOLMOD's OpenMP team has a fixed size: only when the budget covers it.
   EXPECT_EQ(factorization_threads(large, 2).openmp, 1);
   EXPECT_EQ(factorization_threads(large, 16).blas, 16);
@@ -41,12 +42,17 @@ TEST(ThreadPolicy, SettingsReachOpenBlasAndOpenMp) {
   const auto omp_levels = reinterpret_cast<GetInt>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
   if (!blas_threads || !blas_threads_controllable()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
   const double large = 2 * kParallelFactorFlops;
-  tbb::task_arena two(2);
-  two.execute([&] {
-    const FactorizationThreads t = set_factorization_threads(large);
-    EXPECT_EQ(blas_threads(), t.blas);
-    EXPECT_EQ(t.blas, thread_budget());
-  });
+  {
+    // A budget of four, whatever the machine: OpenBLAS gets all of it.
+    const tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
+    tbb::task_arena arena(4);
+    arena.execute([&] {
+      ASSERT_EQ(thread_budget(), 4);
+      const FactorizationThreads t = set_factorization_threads(large);
+      EXPECT_EQ(t.blas, 4);
+      EXPECT_EQ(blas_threads(), 4);
+    });
+  }
   {
     const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
     EXPECT_EQ(set_factorization_threads(large).blas, 1);
