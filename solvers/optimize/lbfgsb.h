@@ -5,8 +5,8 @@
 ///  - monotone decrease (§5.4: "line search in order to ensure monotonic decrease") at few
 ///    evaluations: an Armijo search with quadratic interpolation replaces LBFGSpp's Moré–Thuente
 ///    (which may return a step at the bound without checking the decrease, and extrapolates short
-///    steps by 1.1× per evaluation), and a run's first step is scaled to the last accepted step
-///    length instead of LBFGSpp's unit length (LbfgsbOptions::first_step);
+///    steps by 1.1× per evaluation), and a run's first step is scaled by the last inverse-curvature
+///    estimate sᵀy/yᵀy instead of LBFGSpp's unit length (LbfgsbOptions::first_scale);
 ///  - the best point ever evaluated is returned, whatever happens (a failing line search throws
 ///    inside LBFGSpp; the run restarts from the best point with a fresh Hessian approximation a
 ///    few times, then stops);
@@ -29,9 +29,9 @@ struct LbfgsbOptions {
   int past = 3;                      ///< k − past for the decrease test (0: off)
   int max_linesearch = 40;
   int max_restarts = 3;              ///< restarts after a failed line search
-  /// Length ‖Δx‖ of the first trial step (0: LBFGSpp's unit step). A caller running several
-  /// minimisations in a row passes the previous result's last_step.
-  double first_step = 0;
+  /// γ of the first step −γ∇f (an inverse curvature, units of x² / f; 0: LBFGSpp's step of unit
+  /// length). A caller running several minimisations in a row passes the previous result's scale.
+  double first_scale = 0;
 };
 
 /// f(x, grad): returns the value and writes the gradient (same size as x).
@@ -46,7 +46,7 @@ struct LbfgsbResult {
   int iterations = 0;            ///< accepted iterates
   int evaluations = 0;           ///< objective calls
   int restarts = 0;
-  double last_step = 0;          ///< ‖Δx‖ of the last accepted iterate (0: none)
+  double scale = 0;              ///< last inverse-curvature estimate sᵀy/yᵀy (0: none)
   bool converged = false;        ///< stopped by a tolerance (not by the iteration cap or failure)
   std::string stop_reason;       ///< "gradient", "decrease", "iterations", "callback", "line search: …"
   std::vector<double> history;   ///< f after each accepted iterate (history.front() = f_start)

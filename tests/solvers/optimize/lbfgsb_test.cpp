@@ -169,9 +169,9 @@ TEST(Lbfgsb, AboutOneEvaluationPerIteration) {
   EXPECT_LE(r.evaluations, 1.5 * r.iterations + 3) << r.iterations << " iterations";
 }
 
-TEST(Lbfgsb, FirstStepHasTheGivenLength) {
-  // A run's first trial step has length first_step (LBFGSpp's own would have length 1), and the
-  // result reports its last step for the next run.
+TEST(Lbfgsb, FirstStepIsScaledByTheGivenInverseCurvature) {
+  // f = ‖x − c‖² has the Hessian 2I: with γ = 1/2 the first step −γ∇f lands on c (LBFGSpp's own
+  // first step would have length 1), and the result reports the curvature it measured.
   const Eigen::Vector3d c(3, -2, 1);
   std::vector<Eigen::VectorXd> points;
   auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
@@ -181,12 +181,12 @@ TEST(Lbfgsb, FirstStepHasTheGivenLength) {
   };
   const Eigen::VectorXd lb = Eigen::VectorXd::Constant(3, -INFINITY), ub = Eigen::VectorXd::Constant(3, INFINITY);
   LbfgsbOptions o;
-  o.first_step = 0.01;
+  o.first_scale = 0.5;
   o.max_iterations = 1;
   const LbfgsbResult r = minimize_lbfgsb(f, Eigen::VectorXd::Zero(3), lb, ub, o);
   ASSERT_GE(points.size(), 2u);
-  EXPECT_NEAR(points[1].norm(), 0.01, 1e-12);
-  EXPECT_NEAR(r.last_step, 0.01, 1e-12);
+  EXPECT_NEAR((points[1] - Eigen::VectorXd(c)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(r.scale, 0.5, 1e-12);
   EXPECT_EQ(r.evaluations, 2);
 }
 
