@@ -4,10 +4,13 @@
 /// from the previous equilibrium, on the reduced system over the free DOFs.
 ///
 /// Per topology (constructor): the sparsity pattern, scatter map and colouring (ShellModel) and
-/// CHOLMOD's symbolic analysis. Per Newton iteration: a parallel refill of the Hessian values, a
-/// numeric refactorisation, then the convergence test, then one solve. Because the factorisation
-/// comes before the test, the factor left when Newton stops is that of the converged Hessian, and
-/// it is what solve_adjoint() uses — the adjoint never factorises anything itself.
+/// CHOLMOD's symbolic analysis. Per Newton iteration: a parallel refill of the Hessian values, the
+/// convergence test, then the step: preconditioned conjugate gradients on the current Hessian with
+/// the last factor (Newton–Krylov, NewtonSettings::reuse_factor), or a numeric refactorisation and
+/// one solve when there is no usable factor or the gradients need too many iterations. Newton stops
+/// only with the factor of the converged Hessian in place (refactorising once more if the last
+/// steps were Krylov steps); it is what solve_adjoint() uses — the adjoint never factorises
+/// anything itself — and the next solve's first preconditioner.
 ///
 /// Indefinite Hessians (compressed membranes, folded hinges, far from equilibrium) are regularised
 /// only when CHOLMOD reports them not positive definite: the factorisation is retried with a
@@ -61,6 +64,12 @@ struct NewtonSettings {
   double first_load_step = 1.0;
   /// Newton iterations allowed per load step (a step that needs more is halved).
   int load_step_iterations = 25;
+  /// Newton–Krylov: a Newton step first tries conjugate gradients on the current Hessian,
+  /// preconditioned by the last Cholesky factor (of an earlier iterate, or of the previous
+  /// equilibrium in a sequence of solves), and refactorises only when they need too many
+  /// iterations or meet negative curvature. Newton still stops with the factor of the converged
+  /// Hessian (the adjoint's and the stability test's). false: factorise every iteration.
+  bool reuse_factor = true;
   /// Smallest load step (fraction of the full load) before giving up.
   double min_load_step = 1.0 / 512;
   /// Receives one line per notable event (shifted factorisations, restarts); may be empty.
@@ -83,6 +92,10 @@ struct EquilibriumStats {
   /// the attempted steps that failed and were halved.
   int load_steps = 0;
   int failed_load_steps = 0;
+  /// Newton steps taken by preconditioned conjugate gradients instead of a new factorisation, and
+  /// their conjugate-gradient iterations in total.
+  int krylov_steps = 0;
+  int krylov_iterations = 0;
   bool stable = true;               ///< the converged Hessian is positive definite
   /// Why Newton stopped when it converged: "residual" (‖∇Π‖/‖f_ext‖ ≤ residual_tolerance),
   /// "negligible_step" (the Newton step is at the round-off of the displacement) or "roundoff"
@@ -138,6 +151,10 @@ class EquilibriumSolver {
   /// At most `max_iterations` iterations (< 0: the setting).
   void newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest,
               int max_iterations = -1);
+  /// Newton–Krylov step: conjugate gradients on the assembled Hessian preconditioned by the factor
+  /// in m_cholmod (an earlier Hessian's), to ‖H d + r‖ ≤ forcing·‖r‖. Returns false (and marks
+  /// the factor stale) on negative curvature or when kMaxKrylov iterations do not reach it.
+  bool krylov_step(const Eigen::VectorXd& residual, double forcing, Eigen::VectorXd& direction);
   /// Plain Newton at the full load (warm, then cold), then load stepping; state in m_trial.
   void reach_equilibrium(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool warm);
   /// Adaptive load stepping from rest to the full load; state in m_trial, throws with the fraction
@@ -159,6 +176,7 @@ class EquilibriumSolver {
   RowMatX3d m_trial;    ///< Newton iterate
   bool m_has_solution = false;
   bool m_factor_at_solution = false;
+  bool m_factor_stale = false;  ///< the last Krylov step needed many iterations: refactorise
   double m_last_shift = 0;
   EquilibriumStats m_stats;
   double m_analysis_seconds = 0;
