@@ -4,8 +4,10 @@
 //
 //   BM_Equilibrium_Sheet/<faces>   one equilibrium from rest (the model and CHOLMOD's symbolic
 //                                  analysis built once, outside the timing).
-// Counters: faces, dofs, newton_iterations, factorizations, factor_nonzeros, gflop (one
-// factorisation), assembly_s, factorization_s, solve_s per equilibrium, the ordering as label.
+// Counters: faces, dofs, newton_iterations, factorizations, krylov_steps and krylov_iterations
+// (Newton–Krylov steps and their conjugate-gradient iterations), factor_nonzeros, gflop (one
+// factorisation), assembly_s, factorization_s, solve_s (CG included) per equilibrium; the ordering
+// as label.
 // The 2e5 size takes minutes on two cores; filter it out with --benchmark_filter=Sheet/2000\b etc.
 #include <benchmark/benchmark.h>
 
@@ -28,12 +30,15 @@ void BM_Equilibrium_Sheet(benchmark::State& state) {
   const solvers::ShellModel model(meshes.sim, scene.material, lc);
   solvers::EquilibriumSolver solver(model);
   const Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
-  double iterations = 0, factorizations = 0, assembly = 0, factorization = 0, solve = 0;
+  double iterations = 0, factorizations = 0, krylov_steps = 0, krylov_iterations = 0;
+  double assembly = 0, factorization = 0, solve = 0;
   for (auto _ : state) {
     solver.reset();
     const solvers::EquilibriumStats& s = solver.solve(alpha);
     iterations += s.newton_iterations;
     factorizations += s.factorizations;
+    krylov_steps += s.krylov_steps;
+    krylov_iterations += s.krylov_iterations;
     assembly += s.assembly_seconds;
     factorization += s.factorization_seconds;
     solve += s.solve_seconds;
@@ -43,6 +48,8 @@ void BM_Equilibrium_Sheet(benchmark::State& state) {
   state.counters["dofs"] = model.num_dofs();
   state.counters["newton_iterations"] = iterations / n;
   state.counters["factorizations"] = factorizations / n;
+  state.counters["krylov_steps"] = krylov_steps / n;
+  state.counters["krylov_iterations"] = krylov_iterations / n;
   state.counters["assembly_s"] = assembly / n;
   state.counters["factorization_s"] = factorization / n;
   state.counters["solve_s"] = solve / n;
