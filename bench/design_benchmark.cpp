@@ -8,7 +8,8 @@
 //                                on its own tolerances).
 // Counters (seconds, read off the design's own phase timings, as report.json has them):
 //   pattern_s / paper_pattern_s, structure_s / paper_structure_s, and stencils, v, v_sim,
-//   iterations, W_max_pattern, W_max_final and W_ratio = W_max_final / W_max_pattern.
+//   iterations, structure_evaluations_per_iteration (objective evaluations per L-BFGS-B iteration
+//   of the structural phase), W_max_pattern, W_max_final and W_ratio = W_max_final / W_max_pattern.
 // Manual time = pattern_s + structure_s. One iteration per run (a design is seconds long).
 #include <benchmark/benchmark.h>
 
@@ -65,6 +66,9 @@ void BM_Design(benchmark::State& state, const PaperRow& row) {
   state.counters["v"] = meshes.base.num_vertices();
   state.counters["v_sim"] = meshes.sim.num_vertices();
   state.counters["iterations"] = double(r.pattern.iterations + (r.structure ? r.structure->iterations : 0));
+  if (r.structure && r.structure->iterations > 0)
+    state.counters["structure_evaluations_per_iteration"] =
+        double(r.structure->evaluations) / double(r.structure->iterations);
   state.counters["W_max_pattern"] = r.pattern_design.summary.W_max;
   state.counters["W_max_final"] = r.final_design.summary.W_max;
   state.counters["W_ratio"] = r.final_design.summary.W_max / r.pattern_design.summary.W_max;

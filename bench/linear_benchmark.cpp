@@ -5,7 +5,10 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
+#include <limits>
 #include <map>
+#include <sys/resource.h>
+#include <tbb/task_arena.h>
 #include <string>
 
 #include <Eigen/SparseCholesky>
@@ -14,6 +17,7 @@
 #include "bench/shell_bench_model.h"
 #include "host/core/timer.h"
 #include "solvers/linear/cholmod_solver.h"
+#include "solvers/linear/thread_policy.h"
 #include "solvers/shell/shell_energy.h"
 
 namespace {
@@ -111,6 +115,79 @@ void BM_Solve_Cholmod(benchmark::State& state) {
   state.counters["dofs"] = m.pattern->num_dofs();
 }
 BENCHMARK(BM_Solve_Cholmod)->Apply(sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// User and system CPU seconds of the whole process so far (every thread of every pool).
+std::pair<double, double> process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return {double(u.ru_utime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec),
+          double(u.ru_stime.tv_sec) + 1e-6 * double(u.ru_stime.tv_usec)};
+}
+
+/// The sheet-like sizes of the scaling table (≈ 2e3 / 2e4 / 2e5 faces: 3e3 / 3e4 / 3e5 DOFs).
+void scaling_sizes(benchmark::internal::Benchmark* b, const std::vector<int>& second) {
+  for (int dofs : {3000, 30000, 300000})
+    for (int k : second) b->Args({dofs, k});
+}
+
+/// Symbolic analysis and one numeric factorisation with each ordering CHOLMOD offers (0 AMD,
+/// 1 METIS, 2 NESDIS): what Ordering::Automatic chooses by size from.
+void BM_Ordering_Cholmod(benchmark::State& state) {
+  const BenchMatrix& m = bench_matrix(int(state.range(0)));
+  const Ordering orderings[] = {Ordering::Amd, Ordering::Metis, Ordering::Nesdis};
+  double analyze = 0, factorize = 0;
+  CholmodSolver chol(orderings[state.range(1)]);
+  for (auto _ : state) {
+    chol = CholmodSolver(orderings[state.range(1)]);
+    Stopwatch sw;
+    chol.analyze(m.pattern->num_dofs(), m.pattern->column_starts(), m.pattern->row_indices());
+    analyze += sw.seconds();
+    sw.restart();
+    if (!chol.factorize(m.values.data())) state.SkipWithError("not positive definite");
+    factorize += sw.seconds();
+  }
+  const double n = double(state.iterations());
+  state.counters["dofs"] = m.pattern->num_dofs();
+  state.counters["analyze_s"] = analyze / n;
+  state.counters["factorize_s"] = factorize / n;
+  state.counters["factor_nonzeros"] = double(chol.factor_nonzeros());
+  state.counters["gflop"] = chol.factorization_flops() * 1e-9;
+  state.SetLabel(chol.ordering());
+}
+BENCHMARK(BM_Ordering_Cholmod)
+    ->Apply([](benchmark::internal::Benchmark* b) { scaling_sizes(b, {0, 1, 2}); })
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+/// Numeric factorisation with OpenBLAS serial (second argument 1) or given the whole thread
+/// budget of a task_arena of that many threads: where kParallelFactorFlops comes from.
+/// user_s, sys_s: CPU time of the process per factorisation (spinning pools show up in sys_s).
+void BM_Factorize_Threads(benchmark::State& state) {
+  const BenchMatrix& m = bench_matrix(int(state.range(0)));
+  const int threads = int(state.range(1));
+  tbb::task_arena arena(threads);
+  CholmodSolver chol;
+  chol.analyze(m.pattern->num_dofs(), m.pattern->column_starts(), m.pattern->row_indices());
+  const double saved = parallel_factor_flops();
+  set_parallel_factor_flops(threads > 1 ? 0.0 : std::numeric_limits<double>::infinity());
+  const auto [user0, sys0] = process_cpu_seconds();
+  for (auto _ : state) {
+    arena.execute([&] {
+      if (!chol.factorize(m.values.data())) state.SkipWithError("not positive definite");
+    });
+  }
+  const auto [user1, sys1] = process_cpu_seconds();
+  set_parallel_factor_flops(saved);
+  state.counters["dofs"] = m.pattern->num_dofs();
+  state.counters["gflop"] = chol.factorization_flops() * 1e-9;
+  state.counters["user_s"] = (user1 - user0) / double(state.iterations());
+  state.counters["sys_s"] = (sys1 - sys0) / double(state.iterations());
+  state.SetLabel(chol.ordering());
+}
+BENCHMARK(BM_Factorize_Threads)
+    ->Apply([](benchmark::internal::Benchmark* b) { scaling_sizes(b, {1, 2}); })
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 /// Eigen's SimplicialLDLT (AMD ordering, analysed once outside the loop) on the same matrix;
 /// cholmod_speedup = this numeric factorisation time / CHOLMOD's on the same matrix in this run.

@@ -22,7 +22,7 @@ void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default
                  "(.obj .ply .off .stl)")
       ->capture_default_str();
   cmd.add_option("--out,-o", opts.out, "output directory (created if needed)")->capture_default_str();
-  cmd.add_option("--threads", opts.threads, "number of CPU threads (0: all)")
+  cmd.add_option("--threads", opts.threads, "number of CPU threads for everything the run does: TBB, and the BLAS and OpenMP threads of the factorisations (0: all)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   cmd.add_flag("--quiet,-q", opts.quiet, "print nothing but errors");

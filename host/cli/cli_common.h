@@ -41,7 +41,8 @@ struct LoadedScene {
   LoadCase load_case;
 };
 
-/// Bounds TBB's parallelism for the lifetime of the returned object (none when threads == 0).
+/// Bounds TBB's parallelism for the lifetime of the returned object (none when threads == 0). The
+/// factorisations' OpenBLAS and OpenMP threads follow the same bound (solvers/linear/thread_policy.h).
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 
 /// The report fields every pipeline writes: scene, mesh counts, timings.

@@ -1,5 +1,6 @@
 #include "solvers/equilibrium/equilibrium_solver.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -27,6 +28,24 @@ constexpr double kCoordinateRoundoff = 1e-13;
 /// During the iteration a Newton iterate may overshoot; beyond this many times the displacement
 /// limit the load is clearly beyond capacity and iterating further is pointless.
 constexpr double kExplosionFactor = 10.0;
+
+/// Newton–Krylov: conjugate-gradient iterations on the current Hessian, preconditioned by an
+/// earlier factor, allowed per Newton step before the factor counts as stale and is recomputed;
+/// a step that needs more than kStaleKrylov still serves, but the next one refactorises.
+constexpr int kMaxKrylov = 20;
+constexpr int kStaleKrylov = 6;
+/// Forcing term of the inexact Newton step: CG stops at ‖H d + r‖ ≤ η ‖r‖ with η = kForcing × the
+/// relative force residual (quadratic convergence, and the last step as good as an exact one for
+/// the residual test), clamped to [kMinForcing, kMaxForcing].
+constexpr double kForcing = 1e-3;
+constexpr double kMinForcing = 1e-12;
+constexpr double kMaxForcing = 1e-3;
+
+/// A model whose stiffness at rest is singular: no load step can help, so it is never retried.
+class UnsupportedModel : public SolveError {
+ public:
+  using SolveError::SolveError;
+};
 
 }  // namespace
 
@@ -92,7 +111,67 @@ double EquilibriumSolver::factorize_with_shift(int iteration) {
                    "definite): the model or its loads are degenerate");
 }
 
-void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest) {
+bool EquilibriumSolver::krylov_step(const Eigen::VectorXd& residual, double forcing, Eigen::VectorXd& d) {
+  Stopwatch sw;
+  const int n = m_model.num_dofs();
+  const BlockAssembly& pattern = m_model.assembly();
+  const std::vector<int>& cols = pattern.column_starts();
+  const std::vector<int>& rows = pattern.row_indices();
+  const std::vector<double>& h = m_assembly.hessian;
+  // y = H v from the upper triangle (compressed columns).
+  auto multiply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+    y.setZero(n);
+    for (int j = 0; j < n; ++j) {
+      double yj = 0;
+      for (int k = cols[j]; k < cols[j + 1]; ++k) {
+        const int i = rows[k];
+        yj += h[k] * v[i];
+        if (i != j) y[i] += h[k] * v[j];
+      }
+      y[j] += yj;
+    }
+  };
+  Eigen::VectorXd r = -residual, z(n), p(n), hp(n);
+  d.setZero(n);
+  m_cholmod.solve(r.data(), z.data());
+  p = z;
+  double rz = r.dot(z);
+  const double target = forcing * residual.norm();
+  bool ok = false;
+  for (int k = 1; k <= kMaxKrylov; ++k) {
+    multiply(p, hp);
+    const double curvature = p.dot(hp);
+    if (!(curvature > 0)) break;  // not positive definite along p: the exact path shifts
+    const double a = rz / curvature;
+    d += a * p;
+    r -= a * hp;
+    ++m_stats.krylov_iterations;
+    if (r.norm() <= target) {
+      ok = true;
+      m_factor_stale = k > kStaleKrylov;
+      break;
+    }
+    m_cholmod.solve(r.data(), z.data());
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  m_stats.solve_seconds += sw.seconds();
+  if (!ok) {
+    m_factor_stale = true;
+    return false;
+  }
+  ++m_stats.krylov_steps;
+  return true;
+}
+
+double EquilibriumSolver::trial_displacement() const {
+  return (m_trial - m_model.rest_positions()).rowwise().norm().maxCoeff();
+}
+
+void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest,
+                               int max_iterations) {
+  if (max_iterations < 0) max_iterations = m_settings.max_iterations;
   const ShellModel& model = m_model;
   const double load_norm = load.norm();
   const double size = model.model_size();
@@ -103,9 +182,26 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
   m_last_shift = 0;
   m_factor_at_solution = false;
 
-  // Every iteration factorises the Hessian at the current iterate before testing convergence, so
-  // that when it stops, the factor in m_cholmod is the one of the converged Hessian (for the adjoint).
-  auto converge = [&](double shift, const char* stop) {
+  // The factor in m_cholmod is either that of the current iterate's Hessian (factor_current) or an
+  // earlier one, which preconditions conjugate gradients on the current Hessian (Newton–Krylov).
+  // Newton stops only with a current factor: the converged Hessian's, for the adjoint and for the
+  // stability test.
+  int iteration = 0;
+  bool factor_current = false;
+  double shift = 0;
+  auto refactorize = [&] {
+    shift = factorize_with_shift(iteration);
+    factor_current = true;
+    m_factor_stale = false;
+  };
+  auto exact_step = [&](const Eigen::VectorXd& residual) {
+    Stopwatch sw;
+    m_cholmod.solve(residual.data(), direction.data());
+    direction = -direction;
+    m_stats.solve_seconds += sw.seconds();
+  };
+  auto converge = [&](const char* stop) {
+    if (!factor_current) refactorize();
     m_stats.converged = true;
     m_stats.stop = stop;
     m_stats.stable = shift == 0;
@@ -115,7 +211,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
           "state); sensitivities are not available there");
   };
 
-  for (int iteration = 0;; ++iteration) {
+  for (;; ++iteration) {
     Stopwatch sw;
     assemble_shell(model, m_trial, alpha, true, m_assembly);
     m_stats.assembly_seconds += sw.seconds();
@@ -126,31 +222,41 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     m_stats.residual = rel;
     m_stats.newton_iterations = iteration;
 
-    const double shift = factorize_with_shift(iteration);
-    if (shift > 0 && from_rest && iteration == 0)
-      throw SolveError(
+    // The singular-at-rest test needs the exact factor of the rest state.
+    factor_current = false;
+    const bool first_from_rest = from_rest && iteration == 0;
+    if (first_from_rest || !m_settings.reuse_factor || !m_cholmod.has_factor() || m_cholmod.shift() != 0 ||
+        m_factor_stale)
+      refactorize();
+    if (first_from_rest && shift > 0)
+      throw UnsupportedModel(
           "the model is not supported: its stiffness at rest is singular, so a mechanism or rigid "
           "motion is not held by the supports (add or clamp supports)");
-    if (rel <= m_settings.residual_tolerance) return converge(shift, "residual");
-    if (iteration >= m_settings.max_iterations)
+    if (rel <= m_settings.residual_tolerance) return converge("residual");
+    if (iteration >= max_iterations)
       throw SolveError(fmt::format(
           "Newton's method did not converge in {} iterations (force residual {:.2e} of the load); the "
           "load may exceed what the structure can carry",
           iteration, rel));
 
-    sw.restart();
-    m_cholmod.solve(residual.data(), direction.data());
-    direction = -direction;
-    m_stats.solve_seconds += sw.seconds();
+    bool krylov = !factor_current && krylov_step(residual, std::clamp(kForcing * rel, kMinForcing, kMaxForcing), direction);
+    if (!krylov && !factor_current) refactorize();
+    if (!krylov) exact_step(residual);
 
     // With a positive definite Hessian the Newton step is the estimate of the remaining
     // displacement error. Once it is negligible against the displacement (or at the round-off of
     // the coordinates themselves), the residual is the round-off of the internal forces — which,
-    // for a stiff membrane under a small load, can lie above residual_tolerance.
+    // for a stiff membrane under a small load, can lie above residual_tolerance. An inexact step
+    // is recomputed with the exact factor before it decides that.
     const double umax = (x - rest).lpNorm<Eigen::Infinity>();
-    if (shift == 0 &&
-        direction.lpNorm<Eigen::Infinity>() <= std::max(kNegligibleStep * umax, kCoordinateRoundoff * size))
-      return converge(shift, "negligible_step");
+    const double negligible = std::max(kNegligibleStep * umax, kCoordinateRoundoff * size);
+    if (krylov && direction.lpNorm<Eigen::Infinity>() <= negligible) {
+      refactorize();
+      exact_step(residual);
+      krylov = false;
+    }
+    if (!krylov && shift == 0 && direction.lpNorm<Eigen::Infinity>() <= negligible)
+      return converge("negligible_step");
 
     double slope = residual.dot(direction);
     if (!(slope < 0)) {
@@ -198,7 +304,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     if (!accepted) {
       if (rel <= kRoundoffResidual) {
         log(fmt::format("Newton stopped at round-off level (force residual {:.2e} of the load)", rel));
-        return converge(shift, "roundoff");
+        return converge("roundoff");
       }
       throw SolveError(fmt::format(
           "Newton's line search could not reduce the potential energy (force residual {:.2e} of the "
@@ -207,13 +313,102 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     }
     x = xt;
     m_trial = candidate;
-    const double unew = (m_trial - model.rest_positions()).rowwise().norm().maxCoeff();
+    const double unew = trial_displacement();
     if (unew > kExplosionFactor * limit)
       throw SolveError(fmt::format(
           "the load exceeds what the structure can carry: the displacement grew to {:.3g} m during "
           "Newton's method, far beyond {:.0f}% of the model size ({:.3g} m)",
           unew, 100 * m_settings.max_displacement_ratio, size));
   }
+}
+
+void EquilibriumSolver::reach_equilibrium(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool warm) {
+  const ShellModel& model = m_model;
+  const double limit = m_settings.max_displacement_ratio * model.model_size();
+  auto too_far = [&] {
+    return SolveError(fmt::format(
+        "the load exceeds what the structure can carry: the displacement reached {:.3g} m, more than "
+        "{:.0f}% of the model size ({:.3g} m); reduce the loads, add supports or stiffen the design",
+        trial_displacement(), 100 * m_settings.max_displacement_ratio, model.model_size()));
+  };
+  if (m_settings.first_load_step < 1) {
+    m_trial = model.rest_positions();
+    return step_load(alpha, load);
+  }
+  try {
+    try {
+      newton(alpha, load, !warm);
+    } catch (const UnsupportedModel&) {
+      throw;
+    } catch (const SolveError& first) {
+      if (!warm || !m_settings.cold_restart) throw;
+      log(std::string("warm-started Newton failed (") + first.what() + "); restarting from the rest state");
+      m_stats.cold_restarted = true;
+      m_trial = model.rest_positions();
+      newton(alpha, load, true);
+    }
+    if (trial_displacement() > limit) throw too_far();
+  } catch (const UnsupportedModel&) {
+    throw;
+  } catch (const SolveError& plain) {
+    if (!m_settings.load_stepping) throw;
+    log(std::string("Newton at the full load failed (") + plain.what() + "); continuing by load steps from rest");
+    m_trial = model.rest_positions();
+    step_load(alpha, load);
+  }
+}
+
+void EquilibriumSolver::step_load(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load) {
+  const ShellModel& model = m_model;
+  const double size = model.model_size();
+  const double limit = m_settings.max_displacement_ratio * size;
+  const int step_iterations = std::min(m_settings.load_step_iterations, m_settings.max_iterations);
+  RowMatX3d carried = m_trial;  // the last equilibrium reached: rest, then each accepted step
+  double fraction = 0, step = std::clamp(m_settings.first_load_step, m_settings.min_load_step, 1.0);
+  int iterations = 0;
+  std::string why;
+  while (fraction < 1) {
+    const double target = std::min(1.0, fraction + step);
+    m_trial = carried;
+    bool ok = true;
+    try {
+      newton(alpha, target * load, fraction == 0, step_iterations);
+      if (trial_displacement() > limit) {
+        ok = false;
+        why = fmt::format("beyond it the displacement exceeds {:.0f}% of the model size",
+                          100 * m_settings.max_displacement_ratio);
+      }
+    } catch (const UnsupportedModel&) {
+      throw;
+    } catch (const SolveError&) {
+      ok = false;
+      why = "beyond it Newton's method finds no equilibrium (a limit point: the shell buckles, snaps "
+            "through or collapses)";
+    }
+    iterations += m_stats.newton_iterations;
+    if (ok) {
+      ++m_stats.load_steps;
+      fraction = target;
+      carried = m_trial;
+      step = std::min(2 * step, 1.0);
+      continue;
+    }
+    ++m_stats.failed_load_steps;
+    step /= 2;
+    if (step < m_settings.min_load_step) {
+      m_stats.newton_iterations = iterations;
+      m_trial = carried;
+      const double u = trial_displacement();
+      throw SolveError(fmt::format(
+          "the structure can carry only {:.1f}% of the load: at that fraction the largest displacement is "
+          "{:.3g} m ({:.1f}% of the model size {:.3g} m) and {} (load steps down to {:.2g} of the load "
+          "tried); reduce the loads, add supports or stiffen the design",
+          100 * fraction, u, 100 * u / size, size, why, m_settings.min_load_step));
+    }
+  }
+  m_stats.newton_iterations = iterations;
+  log(fmt::format("equilibrium reached in {} load steps ({} halved), {} Newton iterations", m_stats.load_steps,
+                  m_stats.failed_load_steps, iterations));
 }
 
 const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
@@ -236,22 +431,7 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
   m_stats.warm_started = warm;
   m_trial = m_x;
   try {
-    try {
-      newton(alpha, load, !warm);
-    } catch (const SolveError& first) {
-      if (!warm || !m_settings.cold_restart) throw;
-      log(std::string("warm-started Newton failed (") + first.what() + "); restarting from the rest state");
-      m_stats.cold_restarted = true;
-      m_trial = model.rest_positions();
-      newton(alpha, load, true);
-    }
-    const double umax = (m_trial - model.rest_positions()).rowwise().norm().maxCoeff();
-    const double limit = m_settings.max_displacement_ratio * model.model_size();
-    if (umax > limit)
-      throw SolveError(fmt::format(
-          "the load exceeds what the structure can carry: the displacement reached {:.3g} m, more than "
-          "{:.0f}% of the model size ({:.3g} m); reduce the loads, add supports or stiffen the design",
-          umax, 100 * m_settings.max_displacement_ratio, model.model_size()));
+    reach_equilibrium(alpha, load, warm);
   } catch (const SolveError&) {
     // Keep the last valid equilibrium, including the factor its adjoint needs.
     m_trial = m_x;

@@ -4,10 +4,13 @@
 /// from the previous equilibrium, on the reduced system over the free DOFs.
 ///
 /// Per topology (constructor): the sparsity pattern, scatter map and colouring (ShellModel) and
-/// CHOLMOD's symbolic analysis. Per Newton iteration: a parallel refill of the Hessian values, a
-/// numeric refactorisation, then the convergence test, then one solve. Because the factorisation
-/// comes before the test, the factor left when Newton stops is that of the converged Hessian, and
-/// it is what solve_adjoint() uses — the adjoint never factorises anything itself.
+/// CHOLMOD's symbolic analysis. Per Newton iteration: a parallel refill of the Hessian values, the
+/// convergence test, then the step: preconditioned conjugate gradients on the current Hessian with
+/// the last factor (Newton–Krylov, NewtonSettings::reuse_factor), or a numeric refactorisation and
+/// one solve when there is no usable factor or the gradients need too many iterations. Newton stops
+/// only with the factor of the converged Hessian in place (refactorising once more if the last
+/// steps were Krylov steps); it is what solve_adjoint() uses — the adjoint never factorises
+/// anything itself — and the next solve's first preconditioner.
 ///
 /// Indefinite Hessians (compressed membranes, folded hinges, far from equilibrium) are regularised
 /// only when CHOLMOD reports them not positive definite: the factorisation is retried with a
@@ -17,7 +20,15 @@
 /// load). A stiff membrane under a small load has internal forces whose round-off lies above that
 /// (≈ ε·E h·|X| per vertex); Newton then also stops when the Hessian is positive definite and the
 /// Newton step — the estimate of the remaining displacement error — is below 1e-10 of the largest
-/// displacement (or 1e-13 of the model size, the round-off of the coordinates). Failures are SolveErrors with a message a user can act on: a load that is zero or not
+/// displacement (or 1e-13 of the model size, the round-off of the coordinates).
+///
+/// Large deflections: when Newton at the full load fails (warm, then from rest), the solver
+/// continues by adaptive load steps from rest (NewtonSettings::load_stepping): each step starts at
+/// the last equilibrium reached, a converged step doubles the next, a failed one is halved. When
+/// the steps shrink below min_load_step the error names the fraction of the load carried and the
+/// displacement there relative to the model size.
+///
+/// Failures are SolveErrors with a message a user can act on: a load that is zero or not
 /// finite, an unconstrained model (ShellModel) or one that is singular at rest, displacements beyond
 /// max_displacement_ratio of the model size (a load beyond what the structure can carry), no
 /// convergence within max_iterations, or a line search that cannot reduce Π. After a failure the
@@ -43,6 +54,24 @@ struct NewtonSettings {
   double max_displacement_ratio = 0.25;
   /// Retry from the rest state when a warm-started solve fails.
   bool cold_restart = true;
+  /// When Newton cannot reach the equilibrium at the full load (large deflections), continue by
+  /// adaptive load steps from rest: each step starts from the last equilibrium reached, doubles
+  /// after a success and halves after a failure (Newton not converging within
+  /// load_step_iterations, or the displacement passing the limit above).
+  bool load_stepping = true;
+  /// Fraction of the load of the first attempt: 1 tries plain Newton at the full load first and
+  /// steps only when it fails; a smaller value starts stepping with this step.
+  double first_load_step = 1.0;
+  /// Newton iterations allowed per load step (a step that needs more is halved).
+  int load_step_iterations = 25;
+  /// Newton–Krylov: a Newton step first tries conjugate gradients on the current Hessian,
+  /// preconditioned by the last Cholesky factor (of an earlier iterate, or of the previous
+  /// equilibrium in a sequence of solves), and refactorises only when they need too many
+  /// iterations or meet negative curvature. Newton still stops with the factor of the converged
+  /// Hessian (the adjoint's and the stability test's). false: factorise every iteration.
+  bool reuse_factor = true;
+  /// Smallest load step (fraction of the full load) before giving up.
+  double min_load_step = 1.0 / 512;
   /// Receives one line per notable event (shifted factorisations, restarts); may be empty.
   std::function<void(const std::string&)> log;
 };
@@ -59,6 +88,14 @@ struct EquilibriumStats {
   int energy_evaluations = 0;       ///< line-search evaluations of Π
   bool warm_started = false;
   bool cold_restarted = false;
+  /// Accepted load steps when the equilibrium was reached by load stepping (0: plain Newton), and
+  /// the attempted steps that failed and were halved.
+  int load_steps = 0;
+  int failed_load_steps = 0;
+  /// Newton steps taken by preconditioned conjugate gradients instead of a new factorisation, and
+  /// their conjugate-gradient iterations in total.
+  int krylov_steps = 0;
+  int krylov_iterations = 0;
   bool stable = true;               ///< the converged Hessian is positive definite
   /// Why Newton stopped when it converged: "residual" (‖∇Π‖/‖f_ext‖ ≤ residual_tolerance),
   /// "negligible_step" (the Newton step is at the round-off of the displacement) or "roundoff"
@@ -111,7 +148,20 @@ class EquilibriumSolver {
 
  private:
   /// Newton from m_trial; returns normally when converged (state in m_trial), throws otherwise.
-  void newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest);
+  /// At most `max_iterations` iterations (< 0: the setting).
+  void newton(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool from_rest,
+              int max_iterations = -1);
+  /// Newton–Krylov step: conjugate gradients on the assembled Hessian preconditioned by the factor
+  /// in m_cholmod (an earlier Hessian's), to ‖H d + r‖ ≤ forcing·‖r‖. Returns false (and marks
+  /// the factor stale) on negative curvature or when kMaxKrylov iterations do not reach it.
+  bool krylov_step(const Eigen::VectorXd& residual, double forcing, Eigen::VectorXd& direction);
+  /// Plain Newton at the full load (warm, then cold), then load stepping; state in m_trial.
+  void reach_equilibrium(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load, bool warm);
+  /// Adaptive load stepping from rest to the full load; state in m_trial, throws with the fraction
+  /// of the load carried when it cannot reach the full load.
+  void step_load(const Eigen::VectorXd& alpha, const Eigen::VectorXd& load);
+  /// Largest displacement of the Newton iterate m_trial (m).
+  double trial_displacement() const;
   /// Factorises the assembled Hessian, shifting when needed. Returns the shift used.
   double factorize_with_shift(int iteration);
   void log(const std::string& line) const;
@@ -126,6 +176,7 @@ class EquilibriumSolver {
   RowMatX3d m_trial;    ///< Newton iterate
   bool m_has_solution = false;
   bool m_factor_at_solution = false;
+  bool m_factor_stale = false;  ///< the last Krylov step needed many iterations: refactorise
   double m_last_shift = 0;
   EquilibriumStats m_stats;
   double m_analysis_seconds = 0;

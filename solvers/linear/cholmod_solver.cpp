@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "host/core/error.h"
+#include "solvers/linear/thread_policy.h"
 
 namespace cutwork::solvers {
 
@@ -35,6 +36,8 @@ struct CholmodSolver::Impl {
   cholmod_factor* factor = nullptr;
   bool factor_valid = false;
   double shift = 0;
+  double flops = 0;  // of one numeric factorisation, from the symbolic analysis
+  Ordering ordering = Ordering::Automatic;
   // Solve workspaces kept between calls (cholmod_solve2 reuses them).
   mutable cholmod_dense* x = nullptr;
   mutable cholmod_dense* y = nullptr;
@@ -63,7 +66,11 @@ struct CholmodSolver::Impl {
   }
 };
 
-CholmodSolver::CholmodSolver() : m_impl(std::make_unique<Impl>()) {}
+Ordering choose_ordering(int n) { return n < kMetisFromDofs ? Ordering::Amd : Ordering::Metis; }
+
+CholmodSolver::CholmodSolver(Ordering ordering) : m_impl(std::make_unique<Impl>()) {
+  m_impl->ordering = ordering;
+}
 CholmodSolver::~CholmodSolver() = default;
 CholmodSolver::CholmodSolver(CholmodSolver&&) noexcept = default;
 CholmodSolver& CholmodSolver::operator=(CholmodSolver&&) noexcept = default;
@@ -91,9 +98,16 @@ void CholmodSolver::analyze(int n, const std::vector<int>& column_starts,
   A.dtype = CHOLMOD_DOUBLE;
   A.sorted = 1;
   A.packed = 1;
+  const Ordering ordering = s.ordering == Ordering::Automatic ? choose_ordering(n) : s.ordering;
+  s.common.nmethods = 1;
+  s.common.method[0].ordering = ordering == Ordering::Amd     ? CHOLMOD_AMD
+                                : ordering == Ordering::Metis ? CHOLMOD_METIS
+                                                              : CHOLMOD_NESDIS;
+  s.common.postorder = 1;
   s.factor = cholmod_analyze(&A, &s.common);
   s.check("analyze");
   if (!s.factor) throw SolveError("CHOLMOD analyze failed: " + status_text(s.common.status));
+  s.flops = s.common.fl;
 }
 
 bool CholmodSolver::factorize(const double* values, double shift) {
@@ -104,6 +118,7 @@ bool CholmodSolver::factorize(const double* values, double shift) {
   A.x = const_cast<double*>(values);  // read only: CHOLMOD does not modify A
   double beta[2] = {shift, 0.0};
   s.factor_valid = false;
+  set_factorization_threads(s.flops);
   const int ok = cholmod_factorize_p(&A, beta, nullptr, 0, s.factor, &s.common);
   A.x = nullptr;
   A.xtype = CHOLMOD_PATTERN;
@@ -128,6 +143,7 @@ void CholmodSolver::solve(const double* b, double* x) const {
   B.xtype = CHOLMOD_REAL;
   B.dtype = CHOLMOD_DOUBLE;
   auto& common = const_cast<cholmod_common&>(s.common);
+  set_factorization_threads(s.flops);
   const int ok = cholmod_solve2(CHOLMOD_A, s.factor, &B, nullptr, &s.x, nullptr, &s.y, &s.e, &common);
   s.check("solve");
   if (!ok || !s.x) throw SolveError("CHOLMOD solve failed: " + status_text(s.common.status));
@@ -163,6 +179,8 @@ std::string CholmodSolver::ordering() const {
     default: return "unknown";
   }
 }
+
+double CholmodSolver::factorization_flops() const { return m_impl->factor ? m_impl->flops : 0.0; }
 
 bool CholmodSolver::supernodal() const { return m_impl->factor && m_impl->factor->is_super; }
 

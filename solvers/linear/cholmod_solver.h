@@ -18,9 +18,20 @@
 
 namespace cutwork::solvers {
 
+/// Fill-reducing ordering of the symbolic analysis. Automatic chooses by size (see
+/// choose_ordering); the others force one of CHOLMOD's methods.
+enum class Ordering { Automatic, Amd, Metis, Nesdis };
+
+/// The ordering Automatic picks for an n×n shell Hessian: AMD below kMetisFromDofs unknowns (its
+/// analysis is cheap and its fill is within a few percent of METIS' there), METIS from there on
+/// (less fill and fewer flops on large meshes; its analysis runs once per topology). Measured on
+/// the bench cap, bench/linear_benchmark.cpp BM_Ordering_Cholmod; docs/PERFORMANCE.md.
+inline constexpr int kMetisFromDofs = 20000;
+Ordering choose_ordering(int n);
+
 class CholmodSolver {
  public:
-  CholmodSolver();
+  explicit CholmodSolver(Ordering ordering = Ordering::Automatic);
   ~CholmodSolver();
   CholmodSolver(CholmodSolver&&) noexcept;
   CholmodSolver& operator=(CholmodSolver&&) noexcept;
@@ -52,6 +63,9 @@ class CholmodSolver {
   double rcond() const;
   /// Nonzeros of the factor L (after analysis).
   long factor_nonzeros() const;
+  /// Floating-point operations of one numeric factorisation (from the analysis; 0 before it). The
+  /// thread policy (thread_policy.h) gives OpenBLAS threads by this count.
+  double factorization_flops() const;
   /// Name of the fill-reducing ordering CHOLMOD chose (amd, metis, nesdis, …).
   std::string ordering() const;
   /// True when the factor is supernodal (it always is after analyze()).

@@ -1,5 +1,6 @@
 #include "solvers/optimize/lbfgsb.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -46,8 +47,12 @@ class Tracker {
     return v;
   }
 
-  /// One accepted iterate.
-  void accepted(const Eigen::VectorXd& x, double f) {
+  /// One accepted iterate; s = x − x_previous and y = ∇f(x) − ∇f(x_previous) update the
+  /// inverse-curvature estimate sᵀy / yᵀy that scales the next run's first step.
+  void accepted(const Eigen::VectorXd& x, double f, const Eigen::VectorXd& s, const Eigen::VectorXd& y) {
+    const double sy = s.dot(y), yy = y.squaredNorm();
+    if (sy > 0 && yy > 0) m_result.scale = sy / yy;
+    m_first_of_run = false;
     ++m_result.iterations;
     m_result.history.push_back(f);
     if (m_cb && !m_cb(m_result.iterations, x, f)) throw StopRequested{"callback"};
@@ -57,22 +62,43 @@ class Tracker {
 
   bool has_best() const { return m_has_best; }
 
+  /// A new LBFGSpp run (start or restart): its first step gets scaled.
+  void start_run() { m_first_of_run = true; }
+
+  /// The line search's first trial step along `drt` (slope dg = ∇f·drt): LBFGSpp's `step` except
+  /// on a run's first iteration, where LBFGSpp's direction has unit length whatever the scale of
+  /// x; there the step is the one an inverse Hessian γI would take, γ the last sᵀy/yᵀy (this
+  /// call's, else options.first_scale) when there is one.
+  double initial_step(double step, double step_max, double dg, double drt_squared_norm) const {
+    if (!m_first_of_run || !(drt_squared_norm > 0)) return step;
+    const double gamma = m_result.scale > 0 ? m_result.scale : m_first_scale;
+    return gamma > 0 ? std::min(step_max, gamma * std::abs(dg) / drt_squared_norm) : step;
+  }
+  void set_first_scale(double gamma) { m_first_scale = gamma; }
+
  private:
   const LbfgsbObjective& m_f;
   const LbfgsbCallback& m_cb;
   int m_max_iterations;
   LbfgsbResult& m_result;
   bool m_has_best = false;
+  bool m_first_of_run = true;
+  double m_first_scale = 0;
   bool m_cached = false;
   Eigen::VectorXd m_cache_x, m_cache_g;
   double m_cache_f = 0;
 };
 
-/// Moré–Thuente with a guaranteed decrease: if the search fails or returns a point that is not
-/// below the start (LBFGSpp accepts a step at the bound without the Armijo test), backtrack
-/// from the initial step by halving until the Armijo condition holds.
+/// Armijo backtracking with safeguarded quadratic interpolation, replacing LBFGSpp's Moré–Thuente
+/// search. The quasi-Newton step (step 1, or the step to the bound) is accepted as soon as it
+/// decreases f sufficiently — one evaluation per iteration in the common case. Moré–Thuente also
+/// insists on the strong curvature condition and, when a step is short, extrapolates by only 1.1×
+/// per evaluation; measured on the built-in designs that made 2.6 evaluations per iteration. The
+/// BFGS update stays safe without the curvature condition: LBFGSpp skips pairs with sᵀy ≤ ε yᵀy.
+/// The first step of a run is scaled (LBFGSpp's first direction has unit length): see
+/// LbfgsbOptions::first_scale.
 template <typename Scalar>
-class MonotoneLineSearch {
+class ArmijoLineSearch {
   using Vector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
 
  public:
@@ -83,35 +109,27 @@ class MonotoneLineSearch {
     const Scalar fx_init = fx;
     const Scalar dg_init = grad.dot(drt);
     if (!(dg_init < 0)) throw std::logic_error("the search direction is not a descent direction");
-    const Scalar step_init = step;
-    bool ok = true;
-    try {
-      LBFGSpp::LineSearchMoreThuente<Scalar>::LineSearch(f, fx, x, grad, step, step_max, drt, xp, param);
-    } catch (const NonFiniteValue&) {
-      ok = false;
-    } catch (const std::runtime_error&) {
-      ok = false;
-    }
-    if (!ok || !(fx <= fx_init + param.ftol * step * dg_init)) {
-      Scalar s = step_init;
-      bool found = false;
-      for (int k = 0; k < param.max_linesearch; ++k) {
-        s *= Scalar(0.5);
-        x.noalias() = xp + s * drt;
-        try {
-          fx = f(x, grad);
-        } catch (const NonFiniteValue&) {
-          continue;
-        }
-        if (fx <= fx_init + param.ftol * s * dg_init) {
-          found = true;
-          break;
-        }
+    step = f.initial_step(step, step_max, dg_init, drt.squaredNorm());
+    const Vector grad_init = grad;
+    for (int k = 0; k < param.max_linesearch; ++k) {
+      x.noalias() = xp + step * drt;
+      bool finite = true;
+      try {
+        fx = f(x, grad);
+      } catch (const NonFiniteValue&) {
+        finite = false;
       }
-      if (!found) throw std::runtime_error("no decrease along the search direction");
-      step = s;
+      if (finite && fx <= fx_init + param.ftol * step * dg_init) {
+        f.accepted(x, fx, x - xp, grad - grad_init);
+        return;
+      }
+      // Minimiser of the parabola through φ(0), φ'(0) and φ(step), kept within [0.1, 0.5]·step.
+      Scalar next = Scalar(0.5) * step;
+      const Scalar curvature = fx - fx_init - dg_init * step;
+      if (finite && curvature > 0) next = -dg_init * step * step / (2 * curvature);
+      step = std::clamp(next, Scalar(0.1) * step, Scalar(0.5) * step);
     }
-    f.accepted(x, fx);
+    throw std::runtime_error("no decrease along the search direction");
   }
 };
 
@@ -127,6 +145,7 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
 
   LbfgsbResult result;
   Tracker tracker(f, callback, options.max_iterations, result);
+  tracker.set_first_scale(options.first_scale);
   Eigen::VectorXd x = x0.cwiseMax(lb).cwiseMin(ub);
   {
     Eigen::VectorXd g;
@@ -159,8 +178,9 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
 
   double best_at_restart = result.f;
   for (;;) {
-    LBFGSpp::LBFGSBSolver<double, MonotoneLineSearch> solver(param);
+    LBFGSpp::LBFGSBSolver<double, ArmijoLineSearch> solver(param);
     double fx = 0;
+    tracker.start_run();
     try {
       x = result.x;
       solver.minimize(tracker, x, fx, lb, ub);

@@ -2,9 +2,11 @@
 /// Bound-constrained minimisation with L-BFGS-B (Byrd, Lu, Nocedal, Zhu 1995; paper §5.4),
 /// driving LBFGSpp's LBFGSBSolver (Debian's liblbfgspp-dev) with three additions the paper
 /// asks for or a user expects:
-///  - monotone decrease (§5.4: "line search in order to ensure monotonic decrease"): LBFGSpp's
-///    Moré–Thuente search may return a step at the bound without checking the decrease; the
-///    search used here falls back to Armijo backtracking whenever the value went up;
+///  - monotone decrease (§5.4: "line search in order to ensure monotonic decrease") at few
+///    evaluations: an Armijo search with quadratic interpolation replaces LBFGSpp's Moré–Thuente
+///    (which may return a step at the bound without checking the decrease, and extrapolates short
+///    steps by 1.1× per evaluation), and a run's first step is scaled by the last inverse-curvature
+///    estimate sᵀy/yᵀy instead of LBFGSpp's unit length (LbfgsbOptions::first_scale);
 ///  - the best point ever evaluated is returned, whatever happens (a failing line search throws
 ///    inside LBFGSpp; the run restarts from the best point with a fresh Hessian approximation a
 ///    few times, then stops);
@@ -27,6 +29,9 @@ struct LbfgsbOptions {
   int past = 3;                      ///< k − past for the decrease test (0: off)
   int max_linesearch = 40;
   int max_restarts = 3;              ///< restarts after a failed line search
+  /// γ of the first step −γ∇f (an inverse curvature, units of x² / f; 0: LBFGSpp's step of unit
+  /// length). A caller running several minimisations in a row passes the previous result's scale.
+  double first_scale = 0;
 };
 
 /// f(x, grad): returns the value and writes the gradient (same size as x).
@@ -41,6 +46,7 @@ struct LbfgsbResult {
   int iterations = 0;            ///< accepted iterates
   int evaluations = 0;           ///< objective calls
   int restarts = 0;
+  double scale = 0;              ///< last inverse-curvature estimate sᵀy/yᵀy (0: none)
   bool converged = false;        ///< stopped by a tolerance (not by the iteration cap or failure)
   std::string stop_reason;       ///< "gradient", "decrease", "iterations", "callback", "line search: …"
   std::vector<double> history;   ///< f after each accepted iterate (history.front() = f_start)

@@ -256,6 +256,7 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
   for (size_t i = 0; i < layout.size(); ++i) angle0[Eigen::Index(i)] = layout[i].angle;
   std::vector<DetNeighborhood> previous;
   int used = 0;
+  double scale = 0;  // the optimiser's last inverse-curvature estimate, scaling the next round's first step
   bool stopped_by_callback = false;
   bool matched = false;  // the neighbourhoods of the current layout are frozen in `energy`
   result.stop_reason = budget == 0 ? "iterations" : "";
@@ -304,6 +305,7 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
     };
     LbfgsbOptions lo;
     lo.max_iterations = std::min(per_round, budget - used);
+    lo.first_scale = scale;
     const int round = result.rounds;
     auto cb = [&](int it, const Eigen::VectorXd&, double fx) {
       if (!options.progress) return true;
@@ -322,6 +324,7 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const PatternP
     // A round that moved nothing still spends one iteration of the budget: two matchings of
     // equal cost can alternate forever otherwise.
     used += std::max(1, res.iterations);
+    if (res.scale > 0) scale = res.scale;
     result.iterations += res.iterations;
     result.evaluations += res.evaluations;
     result.round_histories.push_back(res.history);

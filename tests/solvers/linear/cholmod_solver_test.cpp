@@ -9,6 +9,10 @@
 #include "host/core/error.h"
 #include "solvers/linear/block_assembly.h"
 #include "solvers/linear/cholmod_solver.h"
+#include "solvers/linear/thread_policy.h"
+
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 namespace cutwork::solvers {
 namespace {
@@ -127,6 +131,52 @@ TEST(CholmodSolver, FactorizesAndSolvesLikeDenseCholesky) {
   }
   EXPECT_GT(chol.factor_nonzeros(), 0);
   EXPECT_NE(chol.ordering(), "none");
+}
+
+TEST(CholmodSolver, EveryOrderingSolvesTheSameSystem) {
+  std::mt19937 rng(5);
+  const int nodes = 80;
+  const auto elements = random_elements(nodes, 260, rng);
+  const BlockAssembly a(nodes, elements);
+  std::vector<double> values;
+  Eigen::MatrixXd dense;
+  assemble_random(a, elements, rng, values, dense);
+  Eigen::VectorXd b(a.num_dofs());
+  std::normal_distribution<double> n;
+  for (int i = 0; i < b.size(); ++i) b[i] = n(rng);
+  const Eigen::VectorXd reference = dense.llt().solve(b);
+  const std::pair<Ordering, const char*> cases[] = {
+      {Ordering::Amd, "amd"}, {Ordering::Metis, "metis"}, {Ordering::Nesdis, "nesdis"}, {Ordering::Automatic, "amd"}};
+  for (const auto& [ordering, name] : cases) {
+    CholmodSolver chol(ordering);
+    chol.analyze(a.num_dofs(), a.column_starts(), a.row_indices());
+    EXPECT_EQ(chol.ordering(), name);
+    EXPECT_GT(chol.factorization_flops(), 0.0);
+    ASSERT_TRUE(chol.factorize(values.data()));
+    Eigen::VectorXd x(b.size());
+    chol.solve(b.data(), x.data());
+    EXPECT_LE((x - reference).norm(), 1e-10 * reference.norm()) << name;
+  }
+  // The same with OpenBLAS parallel (a budget of four, the threshold at zero), after serial
+  // factorisations stopped its workers, and serial again.
+  const double threshold = parallel_factor_flops();
+  set_parallel_factor_flops(0);
+  for (int threads : {4, 1}) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      CholmodSolver chol;
+      chol.analyze(a.num_dofs(), a.column_starts(), a.row_indices());
+      ASSERT_TRUE(chol.factorize(values.data()));
+      Eigen::VectorXd x(b.size());
+      chol.solve(b.data(), x.data());
+      EXPECT_LE((x - reference).norm(), 1e-10 * reference.norm()) << threads << " threads";
+    });
+  }
+  set_parallel_factor_flops(threshold);
+  // Automatic chooses by size.
+  EXPECT_EQ(choose_ordering(kMetisFromDofs - 1), Ordering::Amd);
+  EXPECT_EQ(choose_ordering(kMetisFromDofs), Ordering::Metis);
 }
 
 TEST(CholmodSolver, ReportsIndefiniteMatricesAndMisuse) {

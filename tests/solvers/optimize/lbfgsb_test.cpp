@@ -139,5 +139,56 @@ TEST(Lbfgsb, NonFiniteStartReturnsTheStartUnchanged) {
   EXPECT_EQ(r.stop_reason, "non-finite objective at the start");
 }
 
+TEST(Lbfgsb, AboutOneEvaluationPerIteration) {
+  // An ill-conditioned quadratic (curvatures 1 … 1e3) and Rosenbrock: the quasi-Newton step is
+  // accepted at once most of the time; a bound is active in the quadratic.
+  const int n = 30;
+  Eigen::VectorXd d(n);
+  for (int i = 0; i < n; ++i) d[i] = std::pow(1e3, double(i) / (n - 1));
+  auto quadratic = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    g = d.cwiseProduct(x - Eigen::VectorXd::Ones(n));
+    return 0.5 * (x - Eigen::VectorXd::Ones(n)).dot(g);
+  };
+  Eigen::VectorXd lb = Eigen::VectorXd::Constant(n, -INFINITY), ub = Eigen::VectorXd::Constant(n, INFINITY);
+  ub[3] = 0.5;
+  LbfgsbOptions o;
+  o.max_iterations = 500;
+  o.gradient_tolerance = 1e-8;
+  o.relative_decrease = 0;
+  LbfgsbResult r = minimize_lbfgsb(quadratic, Eigen::VectorXd::Constant(n, 5.0), lb, ub, o);
+  EXPECT_TRUE(r.converged) << r.stop_reason;
+  EXPECT_NEAR(r.x[3], 0.5, 1e-9);
+  EXPECT_NEAR(r.x[7], 1.0, 1e-6);
+  EXPECT_LE(r.evaluations, 1.3 * r.iterations + 3) << r.iterations << " iterations";
+  EXPECT_TRUE(monotone(r.history));
+
+  lb.setConstant(-INFINITY);
+  ub.setConstant(INFINITY);
+  r = minimize_lbfgsb(rosenbrock, Eigen::VectorXd::Constant(10, -1.2), lb.head(10), ub.head(10), o);
+  EXPECT_TRUE(r.converged) << r.stop_reason;
+  EXPECT_LE(r.evaluations, 1.5 * r.iterations + 3) << r.iterations << " iterations";
+}
+
+TEST(Lbfgsb, FirstStepIsScaledByTheGivenInverseCurvature) {
+  // f = ‖x − c‖² has the Hessian 2I: with γ = 1/2 the first step −γ∇f lands on c (LBFGSpp's own
+  // first step would have length 1), and the result reports the curvature it measured.
+  const Eigen::Vector3d c(3, -2, 1);
+  std::vector<Eigen::VectorXd> points;
+  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
+    points.push_back(x);
+    g = 2 * (x - Eigen::VectorXd(c));
+    return (x - Eigen::VectorXd(c)).squaredNorm();
+  };
+  const Eigen::VectorXd lb = Eigen::VectorXd::Constant(3, -INFINITY), ub = Eigen::VectorXd::Constant(3, INFINITY);
+  LbfgsbOptions o;
+  o.first_scale = 0.5;
+  o.max_iterations = 1;
+  const LbfgsbResult r = minimize_lbfgsb(f, Eigen::VectorXd::Zero(3), lb, ub, o);
+  ASSERT_GE(points.size(), 2u);
+  EXPECT_NEAR((points[1] - Eigen::VectorXd(c)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(r.scale, 0.5, 1e-12);
+  EXPECT_EQ(r.evaluations, 2);
+}
+
 }  // namespace
 }  // namespace cutwork

@@ -1,0 +1,80 @@
+#include "solvers/linear/thread_policy.h"
+
+#include <cholmod.h>
+#include <dlfcn.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+
+namespace cutwork::solvers {
+
+namespace {
+
+using SetInt = void (*)(int);
+
+/// The thread controls of OpenBLAS and the OpenMP runtime, looked up once in the whole process
+/// (whichever library CHOLMOD was linked against provides them); null when absent.
+struct Controls {
+  SetInt openblas_set_num_threads = nullptr;
+  SetInt omp_set_max_active_levels = nullptr;
+  /// Stops OpenBLAS's worker threads (OpenBLAS starts them again on its next parallel call).
+  int (*blas_thread_shutdown)() = nullptr;
+  Controls() {
+    blas_thread_shutdown = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+    openblas_set_num_threads = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    omp_set_max_active_levels = reinterpret_cast<SetInt>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  }
+};
+
+const Controls& controls() {
+  static const Controls c;
+  return c;
+}
+
+/// The OpenBLAS thread count last set by this process (0: never set). OpenBLAS starts with one
+/// thread per core; the first factorisation sets it.
+std::atomic<int> g_blas_threads{0};
+std::atomic<double> g_parallel_flops{kParallelFactorFlops};
+/// The calling thread's last OpenMP max-active-levels (-1: never set on this thread).
+thread_local int t_omp_levels = -1;
+
+}  // namespace
+
+double parallel_factor_flops() { return g_parallel_flops.load(); }
+void set_parallel_factor_flops(double flops) { g_parallel_flops.store(flops); }
+
+int thread_budget() {
+  const auto limit = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return std::max(1, std::min(int(limit), tbb::this_task_arena::max_concurrency()));
+}
+
+FactorizationThreads factorization_threads(double flops, int budget) {
+  FactorizationThreads t;
+  const bool large = flops >= parallel_factor_flops();
+  t.blas = large && budget >= kMinParallelBlasThreads ? budget : 1;
+  t.openmp = large && budget >= CHOLMOD_OMP_NUM_THREADS ? CHOLMOD_OMP_NUM_THREADS : 1;
+  return t;
+}
+
+FactorizationThreads set_factorization_threads(double flops) {
+  const FactorizationThreads t = factorization_threads(flops, thread_budget());
+  const Controls& c = controls();
+  if (c.openblas_set_num_threads && g_blas_threads.exchange(t.blas) != t.blas) {
+    c.openblas_set_num_threads(t.blas);
+    // OpenBLAS starts a worker per core when it loads, and idle workers spin on sched_yield for
+    // ~0.1 s before they sleep: stop them while BLAS is serial.
+    if (t.blas == 1 && c.blas_thread_shutdown) c.blas_thread_shutdown();
+  }
+  const int levels = t.openmp > 1 ? 1 : 0;
+  if (c.omp_set_max_active_levels && t_omp_levels != levels) {
+    c.omp_set_max_active_levels(levels);
+    t_omp_levels = levels;
+  }
+  return t;
+}
+
+bool blas_threads_controllable() { return controls().openblas_set_num_threads != nullptr; }
+
+}  // namespace cutwork::solvers

@@ -1,0 +1,63 @@
+#pragma once
+/// One thread policy for the three thread pools a cutwork process holds: TBB's (assembly, kernels,
+/// everything cutwork parallelises itself), OpenBLAS's pthreads (the dense blocks of CHOLMOD's
+/// supernodal factorisation) and libgomp's (CHOLMOD's own OpenMP loops).
+///
+/// TBB owns the cores. Its limit — `tbb::global_control` (the CLI's `--threads N`) or the calling
+/// task_arena (the benchmarks) — is the thread budget of the whole process. The other two pools get
+/// threads only while a factorisation is large enough to pay for them, and only up to the budget:
+///   - OpenBLAS: the budget when the factorisation has at least parallel_factor_flops()
+///     floating-point operations and the budget is at least kMinParallelBlasThreads, else one
+///     thread. OpenBLAS's idle workers spin (sched_yield) for ~0.1 s after each parallel call, so
+///     a pool that is woken for sub-millisecond BLAS calls costs more system time than it saves;
+///     above the threshold one factorisation takes long enough to amortise it. On two cores a
+///     second BLAS thread never paid: measured on the 2-core build machine (BM_Factorize_Threads,
+///     30k DOFs, 1.95 GFlop, METIS) 1 thread took 1.37 s and 0.14 s CPU, 2 threads 14.6 s and
+///     0.34 s CPU (the spinning peer waits for a core the other pools hold); the issue's own
+///     measurement found equal wall time at 40% more CPU.
+///   - OpenMP: CHOLMOD 5 asks for a fixed team of CHOLMOD_OMP_NUM_THREADS (4) in its supernodal
+///     copy loops, whatever omp_set_num_threads says. Those loops are memory-bound copies; on fewer
+///     cores than that the team oversubscribes and spends its time in futex/spin waits. OpenMP
+///     regions are therefore made inactive (max-active-levels 0) unless the budget covers the team
+///     and the factorisation is large.
+/// Both libraries are reached through dlsym, so a BLAS without OpenBLAS's API (the reference BLAS,
+/// BLIS) or a CHOLMOD built without OpenMP simply leaves that pool alone.
+///
+/// Thread safety: set_factorization_threads() changes process-global settings of OpenBLAS; call it
+/// from the thread that is about to factorise (CholmodSolver does). Concurrent factorisations in
+/// different threads each set the same policy for their own size; the last writer wins.
+#include <cstdint>
+
+namespace cutwork::solvers {
+
+/// Floating-point operations of one factorisation from which OpenBLAS gets the thread budget
+/// (≈ 0.1 s of one core). Measured on the bench cap (bench/linear_benchmark.cpp, BM_Factorize_Threads).
+inline constexpr double kParallelFactorFlops = 2e9;
+/// Smallest thread budget at which OpenBLAS gets more than one thread (see above).
+inline constexpr int kMinParallelBlasThreads = 4;
+/// The threshold in force (kParallelFactorFlops unless set; the benchmarks move it to compare
+/// serial and parallel factorisations of one size: 0 always parallel, +∞ never).
+double parallel_factor_flops();
+void set_parallel_factor_flops(double flops);
+
+/// The process's thread budget as TBB sees it from the calling thread: the smaller of the
+/// global_control limit and the current arena's concurrency (≥ 1).
+int thread_budget();
+
+/// What set_factorization_threads() chose.
+struct FactorizationThreads {
+  int blas = 1;    ///< OpenBLAS threads
+  int openmp = 1;  ///< 1: OpenMP regions inactive; else CHOLMOD's fixed team size
+};
+
+/// The policy above for a factorisation of `flops` operations with `budget` threads (pure).
+FactorizationThreads factorization_threads(double flops, int budget);
+
+/// Applies factorization_threads(flops, thread_budget()) to OpenBLAS and OpenMP (the latter on the
+/// calling thread) and returns it. Cheap: changes nothing when the settings are already in place.
+FactorizationThreads set_factorization_threads(double flops);
+
+/// Whether OpenBLAS's thread control was found in the process (false for other BLAS libraries).
+bool blas_threads_controllable();
+
+}  // namespace cutwork::solvers
