@@ -10,6 +10,7 @@
 #include "host/cut/cut_surface.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
+#include "host/mesh/mesh_mapping.h"
 #include "host/stencil/fill_ratio.h"
 
 namespace cutwork::solvers {
@@ -142,7 +143,12 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     Eigen::VectorXd W;
     RowMatX3d u;
     {
-      const LoadCase lc = resolve_load_case(scene, mesh);
+      // Boundary selectors mean the surface's boundary, not the rims of the holes (tolerance: the
+      // cut's snapping distance is 1e-9 of the longest edge; remeshing keeps boundary vertices on
+      // the cut's boundary edges to round-off).
+      const std::vector<bool> outer =
+          boundary_vertices_on_boundary_of(mesh, meshes.base, 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm());
+      const LoadCase lc = resolve_load_case(scene, mesh, &outer);
       const ShellModel model(mesh, scene.material, lc);
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }

@@ -16,6 +16,10 @@
 /// α_t > kMaterialFillRatio (solvers/objective/structural_quantities.h) and some conforming area
 /// maps onto them; the comparison runs over those faces only.
 ///
+/// Supports and loads are the scene's selectors resolved on the conforming mesh again; selectors of
+/// boundary vertices or edges pick only the uncut surface's boundary (not the rims of the holes,
+/// which the coarse mesh does not have either).
+///
 /// Levels: the conforming solve runs at L, L/2, …, L/2^(levels−1); the comparison uses the finest.
 /// Loads: self-weight is ρ h g per area of material on both meshes; area and edge loads are per
 /// area/length and follow the material that exists (on the coarse mesh they are dead loads on every
@@ -29,6 +33,7 @@
 
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
+#include "host/stencil/fill_ratio.h"
 #include "host/stencil/frame.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
