@@ -42,7 +42,7 @@ void BM_Verify(benchmark::State& state, const VerifyCase& c) {
   const double h = c.coarsest / double(1 << state.range(0));
   nlohmann::json doc = builtin_scene_json(c.scene);
   doc["mesh"]["edge_length"] = h;
-  doc["mesh"].erase("sim_edge_length");  // simulate on the base mesh, as Fig. 4 does
+  doc["mesh"]["sim_edge_length"] = h;  // simulate on the base mesh, as Fig. 4 does
   const Scene scene = parse_scene(doc, std::string("bench:") + c.scene);
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
