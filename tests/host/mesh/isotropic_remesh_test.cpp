@@ -90,22 +90,22 @@ TEST(IsotropicRemesh, KeepsOutlinesCornersAndAreaOfACutPlate) {
     for (int v = 0; v < out.num_vertices(); ++v) d = std::min(d, (out.vertices().row(v).transpose() - corner).norm());
     EXPECT_LT(d, 1e-15) << corner.transpose();
   }
-  EXPECT_GE(r.corner_vertices, 4 + 5);
+  EXPECT_EQ(r.corner_vertices, 4 + 5 + 5);  // the plate's corners, the star's tips and inner corners
   // Area: only boundary collapses change it (a chord replaces two outline segments). Measured
-  // 2.3e-4 relative on this plate; bound with a margin of about 2.
+  // 4.8e-4 relative on this plate; bound with a margin of about 2.
   const double area_in = input.face_areas().sum(), area_out = out.face_areas().sum();
-  EXPECT_LT(std::abs(area_out - area_in) / area_in, 5e-4) << area_in << " " << area_out;
+  EXPECT_LT(std::abs(area_out - area_in) / area_in, 1e-3) << area_in << " " << area_out;
   // Edge lengths near the target; the cut's needles are gone.
   EXPECT_GT(out.mean_edge_length(), 0.75 * L);
-  EXPECT_LT(out.mean_edge_length(), 1.25 * L);
+  EXPECT_LT(out.mean_edge_length(), 1.25 * L);  // measured 1.11 L
   const double before = min_angle_degrees(input), after = min_angle_degrees(out);
   EXPECT_GT(after, before);
-  EXPECT_GT(after, 10.0) << "before: " << before;
+  EXPECT_GT(after, 10.0) << "before: " << before;  // measured 0.03° before, 19.6° after
 }
 
 TEST(IsotropicRemesh, RejectsABadTargetLength) {
   const CutPlate& c = cut_plate();
-  for (double L : {0.0, -1.0, NAN, INFINITY})
+  for (const double L : std::vector<double>{0.0, -1.0, NAN, INFINITY})
     EXPECT_THROW(remesh_isotropic(c.cut.vertices, c.cut.faces, {L, 5, 30.0}), InputError) << L;
 }
 
