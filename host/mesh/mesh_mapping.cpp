@@ -86,4 +86,35 @@ Eigen::VectorXd sim_to_base_faces(const MeshMapping& map, const Eigen::VectorXd&
   return base_field;
 }
 
+std::vector<bool> boundary_vertices_on_boundary_of(const SurfaceMesh& mesh, const SurfaceMesh& reference,
+                                                   double tolerance) {
+  // Reference boundary edges, each with its bounding box grown by the tolerance (a brute-force
+  // scan: boundaries are short, and this runs once per verification).
+  struct Segment {
+    Vec3 a, b, lo, hi;
+  };
+  std::vector<Segment> segments;
+  for (int e = 0; e < reference.num_edges(); ++e) {
+    if (reference.edge_faces()(e, 1) >= 0) continue;
+    const Vec3 a = reference.vertices().row(reference.edges()(e, 0));
+    const Vec3 b = reference.vertices().row(reference.edges()(e, 1));
+    segments.push_back({a, b, a.cwiseMin(b).array() - tolerance, a.cwiseMax(b).array() + tolerance});
+  }
+  std::vector<bool> out(size_t(mesh.num_vertices()), false);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!mesh.is_boundary_vertex()[v]) continue;
+    const Vec3 p = mesh.vertices().row(v);
+    for (const Segment& s : segments) {
+      if ((p.array() < s.lo.array()).any() || (p.array() > s.hi.array()).any()) continue;
+      const Vec3 d = s.b - s.a;
+      const double t = std::clamp((p - s.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      if ((p - (s.a + t * d)).norm() <= tolerance) {
+        out[size_t(v)] = true;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace cutwork

@@ -19,6 +19,12 @@ struct MeshMapping {
 /// Maps `base` onto `sim`. When the two are the same mesh the map is the identity.
 MeshMapping map_meshes(const SurfaceMesh& base, const SurfaceMesh& sim);
 
+/// #V of `mesh`: true for the boundary vertices of `mesh` that lie within `tolerance` (m) of a
+/// boundary edge of `reference` — for a mesh cut from `reference` (stencils cut out, remeshed),
+/// the vertices on the uncut surface's boundary as opposed to the rims of the holes.
+std::vector<bool> boundary_vertices_on_boundary_of(const SurfaceMesh& mesh, const SurfaceMesh& reference,
+                                                   double tolerance);
+
 /// Transfers a per-face field from simulation faces to base faces.
 Eigen::VectorXd sim_to_base_faces(const MeshMapping& map, const Eigen::VectorXd& sim_field);
 

@@ -496,8 +496,9 @@ bool inside(const Selector& s, const Vec3& x) {
 }
 }  // namespace
 
-std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh) {
+std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh, const std::vector<bool>* outer_boundary) {
   const RowMatX3d& V = mesh.vertices();
+  auto on_boundary = [&](int v) { return mesh.is_boundary_vertex()[v] && (!outer_boundary || (*outer_boundary)[v]); };
   std::vector<int> out;
   std::vector<double> dist;  // to near_point, for `nearest`
   auto centre_of = [&](std::initializer_list<int> vs) {
@@ -514,7 +515,7 @@ std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh) {
     case Entity::Vertices:
     case Entity::BoundaryVertices:
       for (int v = 0; v < mesh.num_vertices(); ++v) {
-        if (sel.entity == Entity::BoundaryVertices && !mesh.is_boundary_vertex()[v]) continue;
+        if (sel.entity == Entity::BoundaryVertices && !on_boundary(v)) continue;
         const Vec3 x = V.row(v).transpose();
         keep(v, inside(sel, x), x);
       }
@@ -522,8 +523,9 @@ std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh) {
     case Entity::Edges:
     case Entity::BoundaryEdges:
       for (int e = 0; e < mesh.num_edges(); ++e) {
-        if (sel.entity == Entity::BoundaryEdges && mesh.edge_faces()(e, 1) >= 0) continue;
         const int a = mesh.edges()(e, 0), b = mesh.edges()(e, 1);
+        if (sel.entity == Entity::BoundaryEdges && (mesh.edge_faces()(e, 1) >= 0 || !on_boundary(a) || !on_boundary(b)))
+          continue;
         keep(e, inside(sel, V.row(a).transpose()) && inside(sel, V.row(b).transpose()), centre_of({a, b}));
       }
       break;
@@ -549,7 +551,7 @@ std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh) {
   return out;
 }
 
-LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh) {
+LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const std::vector<bool>* outer_boundary) {
   const std::string origin = scene_origin(scene);
   LoadCase lc;
   const int nv = mesh.num_vertices();
@@ -557,7 +559,7 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh) {
   lc.clamped.assign(nv, false);
   lc.forces = RowMatX3d::Zero(nv, 3);
   auto selected = [&](const Selector& sel) {
-    std::vector<int> ids = select_entities(sel, mesh);
+    std::vector<int> ids = select_entities(sel, mesh, outer_boundary);
     if (ids.empty())
       throw InputError(origin + ": " + sel.json_path + ": selects no " + entity_names()[int(sel.entity)] +
                        " on the simulation mesh (bounding box [" + format_number(mesh.bbox_min()[0]) + ", " +

@@ -170,10 +170,17 @@ struct SceneMeshes {
 SceneMeshes build_scene_meshes(const Scene& scene);
 
 /// Resolves supports and loads onto `mesh` (normally the simulation mesh).
+/// `outer_boundary` (#V, optional): the boundary vertices that boundary selectors may pick —
+/// for a mesh with stencils cut out, those on the uncut surface's boundary, so that a support
+/// "on the boundary" does not land on the rims of the holes. Default: every boundary vertex.
 /// Throws InputError naming the selector's JSON path when it selects nothing.
-LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh);
+LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh,
+                           const std::vector<bool>* outer_boundary = nullptr);
 
 /// Indices of the entities `sel` selects on `mesh` (vertex, edge or face indices by entity).
-std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh);
+/// Boundary entities are restricted to `outer_boundary` when given (see resolve_load_case; a
+/// boundary edge counts when both its vertices are in it).
+std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh,
+                                 const std::vector<bool>* outer_boundary = nullptr);
 
 }  // namespace cutwork

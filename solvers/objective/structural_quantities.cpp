@@ -15,15 +15,44 @@ void zero_fixed_rows(const ShellModel& model, RowMatX3d& m) {
 
 }  // namespace
 
+std::vector<bool> material_faces(const Eigen::VectorXd& alpha) {
+  std::vector<bool> m(size_t(alpha.size()));
+  bool any = false;
+  for (Eigen::Index f = 0; f < alpha.size(); ++f) {
+    m[size_t(f)] = alpha[f] > kMaterialFillRatio;
+    any = any || m[size_t(f)];
+  }
+  if (!any) m.assign(m.size(), true);
+  return m;
+}
+
+std::vector<bool> material_vertices(const RowMatX3i& faces, int num_vertices, const std::vector<bool>& material) {
+  std::vector<bool> v(size_t(num_vertices), false);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    if (material[size_t(f)])
+      for (int k = 0; k < 3; ++k) v[size_t(faces(f, k))] = true;
+  return v;
+}
+
 EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha) {
   EquilibriumSummary s;
   s.strain_energy = shell_energy(model, x, alpha);
   const RowMatX3d u = x - model.rest_positions();
   s.compliance = (model.external_forces(alpha).array() * u.array()).sum();
   const Eigen::VectorXd un = u.rowwise().norm();
-  s.max_displacement = un.maxCoeff(&s.max_displacement_vertex);
+  const std::vector<bool> faces = material_faces(alpha);
+  const std::vector<bool> vertices = material_vertices(model.mesh().faces(), model.num_vertices(), faces);
+  for (int v = 0; v < model.num_vertices(); ++v)
+    if (vertices[size_t(v)] && (s.max_displacement_vertex < 0 || un[v] > s.max_displacement)) {
+      s.max_displacement = un[v];
+      s.max_displacement_vertex = v;
+    }
   s.energy_density = energy_density(model, x, alpha);
-  s.W_max = s.energy_density.maxCoeff(&s.W_max_face);
+  for (int f = 0; f < model.num_faces(); ++f)
+    if (faces[size_t(f)] && (s.W_max_face < 0 || s.energy_density[f] > s.W_max)) {
+      s.W_max = s.energy_density[f];
+      s.W_max_face = f;
+    }
   return s;
 }
 

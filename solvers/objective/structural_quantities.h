@@ -2,10 +2,19 @@
 /// Scalar quantities of an equilibrium and, for those that serve as objectives, their partials.
 ///   strain energy  Ŵ(x, α)                    (J)  — the total elastic energy (11)
 ///   compliance     C = f_ext(α) · (x − X)      (J)  — the work of the external loads
-///   max displacement  max_v |x_v − X_v|        (m)
-///   W_max          max_i W_i of (16)           (J/m²)
+///   max displacement  max_v |x_v − X_v|        (m)   over vertices of material
+///   W_max          max_i W_i of (16)           (J/m²) over faces of material
+/// Material: faces with α > kMaterialFillRatio, and the vertices of at least one such face. Inside a
+/// stencil α is clamped at 1e-4 (a filler that keeps the stiffness matrix regular); that filler sags
+/// under its own stiffness and carries curvature no material has, so neither its displacement nor
+/// its energy density means anything (issue 11 item 5). A face less than 5% material is mostly
+/// hole: the coarse mesh cannot resolve such a sliver, and its corners move with the filler; 5% is
+/// also far above the clamp (1e-4), so round-off in α cannot flip a face. When no face is material
+/// (everything cut away) both maxima run over the whole mesh.
 /// At a linear-elastic equilibrium C = 2Ŵ; with the geometric nonlinearity of the shell they
 /// differ, which is why both are reported. x: #V×3 (m); alpha: #F.
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "solvers/objective/objective_terms.h"
@@ -13,14 +22,22 @@
 
 namespace cutwork::solvers {
 
+/// Faces with α above this are material (see above).
+inline constexpr double kMaterialFillRatio = 0.05;
+
+/// #F: α_t > kMaterialFillRatio, or all true when no face is.
+std::vector<bool> material_faces(const Eigen::VectorXd& alpha);
+/// #V: vertices of at least one face of `material` (faces F, #F×3).
+std::vector<bool> material_vertices(const RowMatX3i& faces, int num_vertices, const std::vector<bool>& material);
+
 struct EquilibriumSummary {
   double strain_energy = 0;      ///< J
   double compliance = 0;         ///< J
-  double max_displacement = 0;   ///< m
+  double max_displacement = 0;   ///< m, over vertices of material
   int max_displacement_vertex = -1;
-  double W_max = 0;              ///< J/m²
+  double W_max = 0;              ///< J/m², over faces of material
   int W_max_face = -1;
-  Eigen::VectorXd energy_density;  ///< #F, J/m²
+  Eigen::VectorXd energy_density;  ///< #F, J/m² (every face, filler included)
 };
 
 EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha);

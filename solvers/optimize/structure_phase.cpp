@@ -10,6 +10,7 @@
 #include "host/core/timer.h"
 #include "host/pattern/overlaps.h"
 #include "solvers/objective/energy_density.h"
+#include "solvers/objective/structural_quantities.h"
 
 namespace cutwork::solvers {
 
@@ -172,7 +173,11 @@ std::optional<ObjectiveTerms> StructuralTerm::solve(std::span<const StencilParam
   Eigen::VectorXd W;
   ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref, W);
   m_last_S = t.value;
-  m_last_W_max = W.maxCoeff();
+  // W_max over material (structural_quantities.h), as the reports give it.
+  const std::vector<bool> material = material_faces(m_shell.alpha());
+  m_last_W_max = 0;
+  for (Eigen::Index f = 0; f < W.size(); ++f)
+    if (material[size_t(f)]) m_last_W_max = std::max(m_last_W_max, W[f]);
   return t;
 }
 

@@ -1,0 +1,224 @@
+// `cutwork verify DIR [--edge-length L] [--levels N]`: a finished design (the folder `cutwork design
+// --out DIR` wrote) simulated on a conforming mesh — the base surface cut along every stencil
+// outline and remeshed — and compared with the coarse fill-ratio simulation (paper §6, Fig. 4).
+// Writes DIR/verify/report.json, DIR/verify/fields.ply (coarse mesh: α, coarse and conforming W)
+// and DIR/verify/conforming.ply (the conforming mesh: W and displacement per face).
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "host/cli/cli_common.h"
+#include "host/cli/commands.h"
+#include "host/core/atomic_file.h"
+#include "host/core/error.h"
+#include "host/io/json_io.h"
+#include "host/mesh/mesh_io.h"
+#include "host/pattern/stencils_json.h"
+#include "solvers/conforming/conforming_verification.h"
+
+namespace cutwork::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct VerifyOptions {
+  std::string dir;
+  std::string scene;          ///< overrides the scene the design's report names
+  double edge_length = 0;     ///< 0: half the base mesh's mean edge length
+  int levels = 1;
+  int threads = 0;
+  bool quiet = false;
+};
+
+json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json run_json(const solvers::RunQuantities& q) {
+  return {{"vertices", q.vertices},
+          {"triangles", q.faces},
+          {"dofs", q.dofs},
+          {"edge_length", q.edge_length},
+          {"compliance", q.compliance},
+          {"strain_energy", q.strain_energy},
+          {"max_displacement", q.max_displacement},
+          {"max_displacement_vertex", q.max_displacement_vertex},
+          {"W_max", q.W_max},
+          {"W_max_face", q.W_max_face},
+          {"material_area", q.material_area},
+          {"load_total", {q.load_total.x(), q.load_total.y(), q.load_total.z()}},
+          {"newton_iterations", q.newton_iterations},
+          {"seconds", q.seconds}};
+}
+
+/// The scene a design folder was made with: --scene, else the one its report.json names.
+std::string design_scene(const VerifyOptions& opts, const fs::path& dir, const json& report) {
+  if (!opts.scene.empty()) return opts.scene;
+  const auto it = report.find("scene_source");
+  if (it == report.end() || !it->is_string())
+    throw InputError((dir / "report.json").string() + ": no scene_source: not a report of `cutwork design`");
+  const std::string source = it->get<std::string>();
+  if (source.rfind("builtin:", 0) == 0) return source.substr(8);
+  if (!fs::exists(source))
+    throw InputError(fmt::format("{}: the design's scene {} cannot be found from here; pass it with --scene",
+                                 (dir / "report.json").string(), source));
+  return source;
+}
+
+json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh& sim) {
+  json c = {{"compliance_ratio", number_or_null(v.compliance_ratio)},
+            {"strain_energy_ratio", number_or_null(v.strain_energy_ratio)},
+            {"max_displacement_ratio", number_or_null(v.max_displacement_ratio)},
+            {"W_max_ratio", number_or_null(v.W_max_ratio)},
+            {"W_max_conforming_on_coarse", v.W_max_on_coarse},
+            {"W_relative_l2", v.W_relative_l2},
+            {"compared_faces", v.compared_faces},
+            {"material_fill_ratio", solvers::kMaterialFillRatio}};
+  if (v.worst_face >= 0) {
+    const int t = v.worst_face;
+    c["largest_W_difference"] = {{"face", t},
+                                 {"position", {v.worst_position.x(), v.worst_position.y(), v.worst_position.z()}},
+                                 {"alpha", v.alpha[t]},
+                                 {"W_coarse", v.coarse_W[t]},
+                                 {"W_conforming", v.W_on_coarse[t]},
+                                 {"difference", v.worst_difference},
+                                 {"area", sim.face_areas()[t]}};
+  }
+  return c;
+}
+
+json convergence_json(const std::vector<solvers::RunQuantities>& levels) {
+  // |C_{k+1} − C_k| / C_finest between consecutive levels: shrinking when the conforming solve converges.
+  json d = json::array();
+  const double c = levels.back().compliance;
+  for (size_t k = 1; k < levels.size(); ++k) d.push_back(std::abs(levels[k].compliance - levels[k - 1].compliance) / c);
+  return {{"compliance_relative_differences", d}};
+}
+
+void run_verify(const VerifyOptions& opts) {
+  auto threads = limit_threads(opts.threads);
+  const fs::path dir(opts.dir);
+  if (!fs::is_directory(dir)) throw InputError(dir.string() + ": no such folder (expected a `cutwork design --out` folder)");
+  for (const char* file : {"report.json", "stencils.json"})
+    if (!fs::is_regular_file(dir / file))
+      throw InputError(fmt::format("{}: holds no design ({} missing; write one with `cutwork design --out {}`)",
+                                   dir.string(), file, dir.string()));
+  const json design_report = read_json_file(dir / "report.json");
+
+  Timings timings;
+  Stopwatch total, sw;
+  RunOptions run;
+  run.scene = design_scene(opts, dir, design_report);
+  run.quiet = opts.quiet;
+  LoadedScene loaded(run, timings);
+  const SceneMeshes& meshes = loaded.meshes;
+  if (design_report.contains("mesh") && design_report["mesh"].value("sim_triangles", -1) != meshes.sim.num_faces())
+    throw InputError(fmt::format("{}: the design was made on {} simulation triangles, the scene {} gives {}: the "
+                                 "scene changed since; pass the design's scene with --scene",
+                                 (dir / "report.json").string(), design_report["mesh"].value("sim_triangles", -1),
+                                 run.scene, meshes.sim.num_faces()));
+  sw.restart();
+  const PatternContext ctx(loaded.scene, meshes);
+  const StencilsFile sf = read_stencils_json(dir / "stencils.json", ctx.shapes());
+  timings.add("stencils", sw.seconds());
+
+  solvers::ConformingOptions co;
+  co.edge_length = opts.edge_length > 0 ? opts.edge_length : 0.5 * meshes.base.mean_edge_length();
+  co.levels = opts.levels;
+  sw.restart();
+  const solvers::ConformingVerification v =
+      solvers::verify_conforming(loaded.scene, meshes, loaded.load_case, ctx, sf.stencils, co);
+  timings.add("verify", sw.seconds());
+  timings.add("total", total.seconds());
+
+  json report = base_report(loaded.scene, meshes, timings);
+  report["design"] = dir.string();
+  report["stencils"] = sf.stencils.size();
+  report["options"] = {{"edge_length", co.edge_length}, {"levels", co.levels}};
+  report["coarse"] = run_json(v.coarse);
+  json levels = json::array();
+  for (const auto& q : v.levels) levels.push_back(run_json(q));
+  report["conforming"] = {{"levels", levels}, {"finest", run_json(v.levels.back())}};
+  report["convergence"] = convergence_json(v.levels);
+  report["comparison"] = comparison_json(v, meshes.sim);
+  std::vector<std::string> notes = loaded.notes;
+  notes.insert(notes.end(), v.notes.begin(), v.notes.end());
+  report["notes"] = notes;
+  report["units"] = {{"compliance", "J"}, {"strain_energy", "J"}, {"max_displacement", "m"}, {"W", "J/m^2"},
+                     {"edge_length", "m"}, {"load_total", "N"}, {"material_area", "m^2"}};
+
+  // Per-face fields: NaN (nothing maps there) written as 0 with compared = 0.
+  const int nf = meshes.sim.num_faces();
+  Eigen::VectorXd W_conf(nf), compared(nf), diff(nf);
+  for (int t = 0; t < nf; ++t) {
+    const bool ok = std::isfinite(v.W_on_coarse[t]);
+    W_conf[t] = ok ? v.W_on_coarse[t] : 0.0;
+    compared[t] = v.compared[size_t(t)] ? 1.0 : 0.0;
+    diff[t] = v.compared[size_t(t)] ? v.coarse_W[t] - v.W_on_coarse[t] : 0.0;
+  }
+  const Eigen::VectorXd conf_u = v.conforming_displacement.rowwise().norm();
+  Eigen::VectorXd conf_face_u(v.conforming_mesh.num_faces());
+  const RowMatX3i& CF = v.conforming_mesh.faces();
+  for (int c = 0; c < v.conforming_mesh.num_faces(); ++c)
+    conf_face_u[c] = (conf_u[CF(c, 0)] + conf_u[CF(c, 1)] + conf_u[CF(c, 2)]) / 3.0;
+  Eigen::VectorXd coarse_face(v.conforming_mesh.num_faces());
+  for (int c = 0; c < v.conforming_mesh.num_faces(); ++c) coarse_face[c] = v.conforming_to_coarse[c];
+
+  // Everything is computed before anything is written; report.json goes last.
+  const fs::path out = dir / "verify";
+  ensure_directory(out);
+  write_ply_with_face_fields(out / "fields.ply", meshes.sim,
+                             {{"alpha", v.alpha}, {"W", v.coarse_W}, {"W_conforming", W_conf},
+                              {"W_difference", diff}, {"compared", compared}});
+  write_ply_with_face_fields(out / "conforming.ply", v.conforming_mesh,
+                             {{"W", v.conforming_W}, {"displacement", conf_face_u}, {"coarse_face", coarse_face}});
+  write_json_atomic(out / "report.json", report);
+  if (!opts.quiet) {
+    for (const auto& n : notes) say(run, "note: " + n);
+    say(run, fmt::format("cutwork verify: {}: {} stencils; coarse {} triangles, conforming {} triangles (L = {:.3g} m); "
+                         "coarse/conforming compliance {:.4f}, strain energy {:.4f}, max displacement {:.4f}, "
+                         "W_max {:.4f}; W relative L2 difference {:.3f}; wrote {}",
+                         loaded.scene.name, sf.stencils.size(), v.coarse.faces, v.levels.back().faces,
+                         v.levels.back().edge_length, v.compliance_ratio, v.strain_energy_ratio,
+                         v.max_displacement_ratio, v.W_max_ratio, v.W_relative_l2, (out / "report.json").string()));
+  }
+}
+
+}  // namespace
+
+void add_verify_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "verify",
+      "Verify a design on a conforming mesh (paper §6): cut the base surface along every stencil outline of DIR "
+      "(a `cutwork design --out DIR` folder), remesh it isotropically, simulate it without fill ratios and "
+      "compare with the coarse fill-ratio run; writes DIR/verify/report.json (compliance, strain energy, maximum "
+      "displacement of the material, W_max, energy density per coarse face, where they differ most), "
+      "DIR/verify/fields.ply (coarse mesh: alpha, W, W_conforming, W_difference) and DIR/verify/conforming.ply");
+  auto opts = std::make_shared<VerifyOptions>();
+  cmd->add_option("DIR", opts->dir, "a design folder (report.json and stencils.json of `cutwork design`)")
+      ->required();
+  cmd->add_option("--scene", opts->scene,
+                  "the scene the design was made with (default: the one DIR/report.json names)");
+  cmd->add_option("--edge-length", opts->edge_length,
+                  "target edge length of the conforming mesh at the coarsest level, m (0: half the base mesh's "
+                  "mean edge length)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--levels", opts->levels,
+                  "conforming solves at L, L/2, ... (the comparison uses the finest; the report shows convergence)")
+      ->check(CLI::Range(1, 6))
+      ->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", opts->quiet, "print nothing but errors");
+  cmd->callback([opts] { run_verify(*opts); });
+}
+
+}  // namespace cutwork::cli

@@ -1,0 +1,161 @@
+#include "host/mesh/isotropic_remesh.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+
+namespace cutwork {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using VertexIndex = Mesh::Vertex_index;
+
+Mesh to_cgal(const RowMatX3d& V, const RowMatX3i& F) {
+  Mesh m;
+  std::vector<VertexIndex> index(size_t(V.rows()), Mesh::null_vertex());
+  std::vector<bool> used(size_t(V.rows()), false);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) used[size_t(F(f, k))] = true;
+  for (int v = 0; v < V.rows(); ++v)
+    if (used[size_t(v)]) index[size_t(v)] = m.add_vertex(Point(V(v, 0), V(v, 1), V(v, 2)));
+  for (int f = 0; f < F.rows(); ++f) {
+    const auto face = m.add_face(index[size_t(F(f, 0))], index[size_t(F(f, 1))], index[size_t(F(f, 2))]);
+    if (face == Mesh::null_face())
+      throw InputError(fmt::format("remeshing: face {} makes the surface non-manifold", f));
+  }
+  return m;
+}
+
+/// Marks boundary vertices whose boundary turns by more than `angle` (radians) as constrained.
+int mark_corners(const Mesh& m, double angle, Mesh::Property_map<VertexIndex, bool>& corner) {
+  int count = 0;
+  for (const auto h : m.halfedges()) {
+    if (!m.is_border(h)) continue;
+    // Border halfedges run along the boundary: prev → h, turning at target(prev) = source(h).
+    const auto prev = m.prev(h);
+    const Point& a = m.point(m.source(prev));
+    const Point& b = m.point(m.source(h));
+    const Point& c = m.point(m.target(h));
+    const Kernel::Vector_3 d0 = b - a, d1 = c - b;
+    const double n0 = std::sqrt(d0.squared_length()), n1 = std::sqrt(d1.squared_length());
+    if (n0 == 0 || n1 == 0) continue;
+    const double cosine = std::clamp(double(d0 * d1) / (n0 * n1), -1.0, 1.0);
+    if (std::acos(cosine) > angle) {
+      corner[m.source(h)] = true;
+      ++count;
+    }
+  }
+  return count;
+}
+
+/// Would moving vertex `moved` to `to` flip or flatten a face around it other than `skip`?
+bool keeps_orientation(const Mesh& m, VertexIndex moved, const Point& to, Mesh::Face_index skip) {
+  for (const auto f : m.faces_around_target(m.halfedge(moved))) {
+    if (f == Mesh::null_face() || f == skip) continue;
+    std::array<Point, 3> before, after;
+    int k = 0;
+    for (const auto v : m.vertices_around_face(m.halfedge(f))) {
+      before[size_t(k)] = m.point(v);
+      after[size_t(k++)] = v == moved ? to : m.point(v);
+    }
+    const auto n0 = CGAL::cross_product(before[1] - before[0], before[2] - before[0]);
+    const auto n1 = CGAL::cross_product(after[1] - after[0], after[2] - after[0]);
+    if (!(n0 * n1 > 0.01 * std::sqrt(n0.squared_length() * n1.squared_length()))) return false;
+  }
+  return true;
+}
+
+/// Collapses boundary edges shorter than `tau` onto one of their ends (a corner when there is one):
+/// the cut leaves such edges where an outline crosses a mesh edge next to one of its own vertices,
+/// and a protected boundary edge that short would leave a needle beside it. Returns the count.
+int collapse_short_border_edges(Mesh& m, double tau, Mesh::Property_map<VertexIndex, bool>& corner) {
+  int count = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<Mesh::Edge_index> candidates;
+    for (const auto e : m.edges())
+      if (m.is_border(e) && CGAL::squared_distance(m.point(m.vertex(e, 0)), m.point(m.vertex(e, 1))) < tau * tau)
+        candidates.push_back(e);
+    for (const auto e : candidates) {
+      if (m.is_removed(e)) continue;
+      const auto h = m.halfedge(e);
+      const VertexIndex a = m.source(h), b = m.target(h);
+      if (corner[a] && corner[b]) continue;
+      if (CGAL::squared_distance(m.point(a), m.point(b)) >= tau * tau) continue;
+      // collapse_edge keeps target(h); the kept position is the corner's, else b's.
+      const VertexIndex keep = corner[a] ? a : b, gone = keep == a ? b : a;
+      const Point to = m.point(keep);
+      const auto face = m.is_border(h) ? m.face(m.opposite(h)) : m.face(h);
+      if (!CGAL::Euler::does_satisfy_link_condition(e, m) || !keeps_orientation(m, gone, to, face)) continue;
+      const bool was_corner = corner[keep];
+      const VertexIndex v = CGAL::Euler::collapse_edge(e, m);
+      m.point(v) = to;
+      corner[v] = was_corner;
+      ++count;
+      changed = true;
+    }
+  }
+  return count;
+}
+
+}  // namespace
+
+RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces, const RemeshOptions& options) {
+  if (!(options.target_edge_length > 0) || !std::isfinite(options.target_edge_length))
+    throw InputError(fmt::format("remeshing: target edge length {} is not a positive length (m)",
+                                 options.target_edge_length));
+  if (options.iterations < 1) throw InputError("remeshing: at least one iteration is needed");
+  Mesh m = to_cgal(vertices, faces);
+  auto corner = m.add_property_map<VertexIndex, bool>("v:corner", false).first;
+  RemeshedMesh out;
+  out.corner_vertices = mark_corners(m, options.corner_angle * std::numbers::pi / 180.0, corner);
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  const double L = options.target_edge_length;
+  out.collapsed_boundary_edges = collapse_short_border_edges(m, options.min_boundary_edge * L, corner);
+  m.collect_garbage();
+  // Long boundary edges split at the remeshing's own threshold, then every boundary edge is
+  // protected: the remeshing neither splits, collapses, flips nor relaxes it.
+  std::vector<Mesh::Edge_index> border;
+  for (const auto e : m.edges())
+    if (m.is_border(e)) border.push_back(e);
+  PMP::split_long_edges(border, 4.0 / 3.0 * L, m);
+  PMP::isotropic_remeshing(m.faces(), L, m,
+                           CGAL::parameters::number_of_iterations(unsigned(options.iterations))
+                               .vertex_is_constrained_map(corner)
+                               .protect_constraints(true));
+  m.collect_garbage();
+  std::vector<int> index(m.number_of_vertices(), -1);
+  out.vertices.resize(Eigen::Index(m.number_of_vertices()), 3);
+  int n = 0;
+  for (const auto v : m.vertices()) {
+    if (m.is_isolated(v)) continue;
+    const Point& p = m.point(v);
+    out.vertices.row(n) << p.x(), p.y(), p.z();
+    index[size_t(v.idx())] = n++;
+  }
+  out.vertices.conservativeResize(n, 3);
+  out.faces.resize(Eigen::Index(m.number_of_faces()), 3);
+  int f = 0;
+  for (const auto face : m.faces()) {
+    int k = 0;
+    for (const auto v : m.vertices_around_face(m.halfedge(face))) out.faces(f, k++) = index[size_t(v.idx())];
+    ++f;
+  }
+  return out;
+}
+
+}  // namespace cutwork

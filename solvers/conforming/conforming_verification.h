@@ -1,0 +1,104 @@
+#pragma once
+/// Conforming verification (paper §6, Fig. 4): a design's stencils simulated twice —
+///  - coarse: the scene's simulation mesh with fill ratios α (what the optimiser sees, as
+///    `cutwork simulate --stencils` runs it);
+///  - conforming: the base mesh cut along every stencil outline (host/cut), remeshed to a target
+///    edge length L (host/mesh/isotropic_remesh.h), the scene's supports and loads resolved on
+///    that mesh again, simulated with α = 1 everywhere —
+/// and compared: compliance, strain energy, maximum displacement of the material, energy density
+/// per coarse face and W_max.
+///
+/// Energy density on coarse faces. Every conforming face is assigned to the coarse (simulation)
+/// face that holds the closest point of its centroid; the conforming W of (16) is averaged over
+/// the faces assigned to each coarse face, weighted by area: W̄_t = Σ_c A_c W_c / Σ_c A_c. Both W_t
+/// (coarse, per area of the material left, see solvers/objective/energy_density.h) and W̄_t are
+/// energies per area of material, so they compare directly. Coarse faces count as material when
+/// α_t > kMaterialFillRatio (solvers/objective/structural_quantities.h) and some conforming area
+/// maps onto them; the comparison runs over those faces only.
+///
+/// Supports and loads are the scene's selectors resolved on the conforming mesh again; selectors of
+/// boundary vertices or edges pick only the uncut surface's boundary (not the rims of the holes,
+/// which the coarse mesh does not have either).
+///
+/// Levels: the conforming solve runs at L, L/2, …, L/2^(levels−1); the comparison uses the finest.
+/// Loads: self-weight is ρ h g per area of material on both meshes; area and edge loads are per
+/// area/length and follow the material that exists (on the coarse mesh they are dead loads on every
+/// selected face, holes included); point loads are totals split over the selected vertices. The
+/// totals of both runs are reported so that a difference is visible.
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "host/mesh/surface_mesh.h"
+#include "host/scene/scene.h"
+#include "host/stencil/fill_ratio.h"
+#include "host/stencil/frame.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/objective/structural_quantities.h"
+#include "solvers/optimize/pattern_phase.h"
+
+namespace cutwork::solvers {
+
+struct ConformingOptions {
+  double edge_length = 0;   ///< conforming target edge length L (m) at the coarsest level; > 0
+  int levels = 1;           ///< conforming solves at L, L/2, …; ≥ 1
+  int remesh_iterations = 5;
+  NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
+};
+
+/// One equilibrium's scalar quantities (material only, see summarize_equilibrium).
+struct RunQuantities {
+  int vertices = 0, faces = 0, dofs = 0;
+  double edge_length = 0;          ///< m (target for a conforming level; mean for the coarse mesh)
+  double compliance = 0;           ///< J
+  double strain_energy = 0;        ///< J
+  double max_displacement = 0;     ///< m, over vertices of material
+  int max_displacement_vertex = -1;
+  double W_max = 0;                ///< J/m², over faces of material
+  int W_max_face = -1;
+  double material_area = 0;        ///< m²: Σ α A (coarse) or Σ A (conforming)
+  Vec3 load_total = Vec3::Zero();  ///< N: dead loads plus self-weight, free and supported vertices
+  int newton_iterations = 0;
+  double seconds = 0;
+};
+
+struct ConformingVerification {
+  Eigen::VectorXd alpha;               ///< #F_sim fill ratios of the coarse run
+  RunQuantities coarse;
+  Eigen::VectorXd coarse_W;            ///< #F_sim, J/m²
+  std::vector<RunQuantities> levels;   ///< conforming levels, coarsest first
+  // The finest conforming level.
+  SurfaceMesh conforming_mesh;
+  Eigen::VectorXd conforming_W;        ///< #F_conf, J/m²
+  RowMatX3d conforming_displacement;   ///< #V_conf×3, m
+  Eigen::VectorXi conforming_to_coarse;///< #F_conf: the coarse face each conforming face maps to
+  Eigen::VectorXd W_on_coarse;         ///< #F_sim: W̄_t (NaN where nothing maps)
+  std::vector<bool> compared;          ///< #F_sim: material faces that are compared
+  // Comparison (coarse / conforming, finest level).
+  double compliance_ratio = 0, strain_energy_ratio = 0, max_displacement_ratio = 0;
+  double W_max_ratio = 0;              ///< coarse W_max / conforming W_max (per conforming face)
+  double W_max_on_coarse = 0;          ///< max_t W̄_t over compared faces
+  double W_relative_l2 = 0;            ///< √(Σ A_t (W_t − W̄_t)² / Σ A_t W̄_t²) over compared faces
+  int worst_face = -1;                 ///< compared face with the largest |W_t − W̄_t|
+  double worst_difference = 0;         ///< W_t − W̄_t there (J/m²)
+  Vec3 worst_position = Vec3::Zero();  ///< its centroid (m)
+  int compared_faces = 0;
+  std::vector<std::string> notes;
+};
+
+/// Fill ratios (#F_sim) of `stencils` on the scene's simulation mesh, as the optimiser computes them
+/// (CPU kernels unless `fill` says otherwise; derivatives off).
+Eigen::VectorXd design_fill_ratios(const PatternContext& ctx, const SceneMeshes& meshes,
+                                   std::span<const StencilParams> stencils, FillRatioOptions fill = {});
+
+/// Runs both simulations and compares them (see the file comment). Throws InputError for bad
+/// options or a scene whose supports/loads select nothing on the conforming mesh (e.g. a point
+/// load inside a hole), SolveError when either equilibrium fails (a piece cut loose by the stencils
+/// has no support, a load beyond capacity).
+ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
+                                         const PatternContext& ctx, std::span<const StencilParams> stencils,
+                                         const ConformingOptions& options, FillRatioOptions fill = {});
+
+}  // namespace cutwork::solvers
