@@ -82,7 +82,8 @@ void say(const RunOptions& opts, const std::string& line) {
 void add_device_option(CLI::App& cmd, std::string& device) {
   cmd.add_option("--device", device,
                  "where the clip and fill kernels run: cpu (TBB), vulkan (a GPU, else Mesa's lavapipe; "
-                 "CUTWORK_VK_DEVICE picks one), or auto (Vulkan when a device exists, else the CPU)")
+                 "CUTWORK_VK_DEVICE picks one), or auto (a GPU when there is one, else the CPU; a CPU "
+                 "implementation of Vulkan such as lavapipe is left to --device vulkan)")
       ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
       ->capture_default_str();
 }
@@ -91,7 +92,8 @@ DeviceChoice choose_device(const std::string& device) {
   DeviceChoice c;
   c.backend = select_compute_backend(parse_device_request(device), &std::cerr);
   c.fill = FillRatioOptions::for_backend(c.backend);
-  c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver}};
+  c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver},
+              {"requested", device}, {"reason", c.backend.reason}};
   if (!c.backend.fallback_reason.empty()) c.report["fallback_reason"] = c.backend.fallback_reason;
   return c;
 }
