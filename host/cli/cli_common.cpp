@@ -119,6 +119,13 @@ void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
   m_dirty = true;
 }
 
+void ProgressLine::stage(const std::string& name) {
+  if (!m_active) return;
+  m_since_draw.restart();
+  std::cout << fmt::format("\r\x1b[K{} …  {:.1f} s", name, m_clock.seconds()) << std::flush;
+  m_dirty = true;
+}
+
 void ProgressLine::finish() {
   if (m_active && m_dirty) std::cout << "\r\x1b[K" << std::flush;
   m_dirty = false;

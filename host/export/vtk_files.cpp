@@ -241,4 +241,43 @@ VtuContents read_vtu(const std::filesystem::path& path) {
   return out;
 }
 
+VtpContents read_vtp_polylines(const std::filesystem::path& path) {
+  Reader r{path.string()};
+  XmlDoc doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE),
+             &xmlFreeDoc);
+  if (!doc) r.fail("cannot be read as XML");
+  xmlNode* root = xmlDocGetRootElement(doc.get());
+  if (!is_element(root, "VTKFile") || attribute(root, "type") != "PolyData") r.fail("not a VTK XML PolyData file");
+  xmlNode* piece = r.need(r.need(root, "PolyData"), "Piece");
+  const long long np = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
+  const long long nl = parse_count(r, attribute(piece, "NumberOfLines"), "NumberOfLines");
+  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
+  if (points == nullptr) r.fail("<Points> has no DataArray");
+  const std::vector<double> xyz = r.numbers(points, size_t(3 * np));
+  const auto lines = r.arrays(r.need(piece, "Lines"));
+  for (const char* name : {"connectivity", "offsets"})
+    if (!lines.count(name)) r.fail(fmt::format("<Lines> has no '{}' array", name));
+  const std::vector<double> offsets = r.numbers(lines.at("offsets"), size_t(nl));
+  const std::vector<double> conn = r.numbers(lines.at("connectivity"), nl > 0 ? size_t(offsets.back()) : 0);
+  VtpContents out;
+  size_t begin = 0;
+  for (long long l = 0; l < nl; ++l) {
+    const size_t end = size_t(offsets[size_t(l)]);
+    if (end < begin || end > conn.size()) r.fail(fmt::format("offsets[{}] = {} is out of order", l, end));
+    RowMatX3d pts(Eigen::Index(end - begin), 3);
+    for (size_t k = begin; k < end; ++k) {
+      const double i = conn[k];
+      if (i < 0 || i >= double(np)) r.fail(fmt::format("connectivity[{}] = {} is out of range", k, i));
+      pts.row(Eigen::Index(k - begin)) << xyz[size_t(3 * i)], xyz[size_t(3 * i + 1)], xyz[size_t(3 * i + 2)];
+    }
+    out.lines.push_back(std::move(pts));
+    begin = end;
+  }
+  for (const auto& [name, node] : r.arrays(child(piece, "CellData"))) {
+    const std::vector<double> v = r.numbers(node, size_t(nl));
+    out.cell_fields[name] = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(nl));
+  }
+  return out;
+}
+
 }  // namespace cutwork

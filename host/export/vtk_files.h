@@ -46,4 +46,13 @@ VtuContents read_vtu(const std::filesystem::path& path);
 void write_vtp_polylines(const std::filesystem::path& path, const std::vector<RowMatX3d>& lines, bool closed,
                          const std::map<std::string, Eigen::VectorXd>& cell_fields);
 
+/// A .vtp file of polylines read back (what write_vtp_polylines writes): each line's points
+/// (a closed line ends with its first point again) and the per-line arrays. Same rules as
+/// read_vtu.
+struct VtpContents {
+  std::vector<RowMatX3d> lines;
+  std::map<std::string, Eigen::VectorXd> cell_fields;
+};
+VtpContents read_vtp_polylines(const std::filesystem::path& path);
+
 }  // namespace cutwork

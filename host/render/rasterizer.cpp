@@ -42,7 +42,7 @@ struct Camera {
 };
 
 Camera camera_for(View view) {
-  Vec3 forward, up_hint = Vec3::UnitZ();
+  Vec3 forward = Vec3::UnitY(), up_hint = Vec3::UnitZ();
   switch (view) {
     case View::Iso:
       forward = -Vec3(1, -1.2, 0.9).normalized();
