@@ -15,6 +15,7 @@
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
 #include "host/cli/outputs.h"
+#include "host/core/atomic_file.h"
 #include "host/core/error.h"
 #include "host/export/vtk_files.h"
 #include "host/mesh/mesh_io.h"
@@ -89,7 +90,7 @@ void run_render(const RenderCommandOptions& opts) {
   // A field asked for by name must exist; `all` draws what there is.
   const bool all = opts.fields == "all";
   if (!all)
-    for (render::Field field : fields) (void)render::draw_picture(f, field, {64, 48, {render::View::Top}});
+    for (render::Field field : fields) (void)render::draw_picture(f, field, {64, 48, {render::View::Top}, false});
   ensure_directory(out);
   const std::vector<fs::path> written = render::write_pictures(out, f, fields, po);
   std::vector<std::string> names;

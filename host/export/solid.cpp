@@ -7,6 +7,7 @@
 #include <ostream>
 #include <unordered_map>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "host/core/atomic_file.h"

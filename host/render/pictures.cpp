@@ -163,22 +163,28 @@ Image draw_picture(const DesignFields& f, Field field, const PictureOptions& o) 
     throw InputError(fmt::format("render: picture size {}x{} is below 64x48", o.width, o.height));
   if (o.views.empty()) throw InputError("render: no views to draw");
   const Coloured c = colour_field(f, field);
+  Eigen::AlignedBox3d frame;
+  for (Eigen::Index v = 0; v < c.vertices->rows(); ++v) frame.extend(c.vertices->row(v).transpose());
+  std::vector<View> views;
+  for (View v : o.views) {
+    const Eigen::Vector2d e = projected_extent(v, frame);
+    if (!o.skip_edge_on_views || std::min(e.x(), e.y()) >= 0.02 * std::max(e.x(), e.y())) views.push_back(v);
+  }
+  if (views.empty()) views = o.views;
   const double font = std::clamp(0.04 * o.height, 8.0, 18.0);
   const int title_h = int(std::ceil(1.8 * font));
   const int label_h = int(std::ceil(1.5 * font));
   const int bar_w = field == Field::Design ? 0 : std::max(60, int(0.12 * o.width));
-  const int panel_w = std::max(1, (o.width - bar_w) / int(o.views.size()));
+  const int panel_w = std::max(1, (o.width - bar_w) / int(views.size()));
   const int panel_h = std::max(1, o.height - title_h - label_h);
 
-  Eigen::AlignedBox3d frame;
-  for (Eigen::Index v = 0; v < c.vertices->rows(); ++v) frame.extend(c.vertices->row(v).transpose());
   CairoSurface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, o.width, o.height), &cairo_surface_destroy);
   Cairo cr(cairo_create(surface.get()), &cairo_destroy);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
   cairo_paint(cr.get());
-  for (size_t i = 0; i < o.views.size(); ++i) {
+  for (size_t i = 0; i < views.size(); ++i) {
     ViewSetup setup;
-    setup.view = o.views[i];
+    setup.view = views[i];
     setup.frame = frame;
     Image panel = rasterize(*c.vertices, *c.faces, c.colours, setup, panel_w, panel_h);
     CairoSurface ps(cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(panel.pixels.data()),
@@ -188,7 +194,7 @@ Image draw_picture(const DesignFields& f, Field field, const PictureOptions& o) 
     cairo_set_source_surface(cr.get(), ps.get(), px, title_h);
     cairo_paint(cr.get());
     cairo_set_source_rgb(cr.get(), 0.35, 0.35, 0.35);
-    text(cr.get(), px + 0.5 * font, title_h + panel_h + 1.1 * font, std::string(to_string(o.views[i])) + " view",
+    text(cr.get(), px + 0.5 * font, title_h + panel_h + 1.1 * font, std::string(to_string(views[i])) + " view",
          0.9 * font);
   }
   cairo_set_source_rgb(cr.get(), 0.1, 0.1, 0.1);

@@ -39,6 +39,9 @@ Field parse_field(std::string_view text);
 struct PictureOptions {
   int width = 1200, height = 420;  ///< pixels of the whole picture
   std::vector<View> views = {View::Iso, View::Front, View::Top};
+  /// Leave out views in which the surface is seen edge-on (its box's projected height or width
+  /// below 2% of the other), e.g. a flat plate from the front — unless that leaves none.
+  bool skip_edge_on_views = true;
 };
 
 /// A design's (or a simulation's) fields to draw.

@@ -66,6 +66,12 @@ Camera camera_for(View view) {
   return c;
 }
 
+}  // namespace
+
+Eigen::Vector2d projected_extent(View view, const Eigen::AlignedBox3d& box);
+
+namespace {
+
 /// A triangle in supersampled pixel coordinates with its depth and shaded colour.
 struct ScreenTriangle {
   double x[3], y[3], z[3];
@@ -82,12 +88,8 @@ std::vector<ScreenTriangle> project(const RowMatX3d& V, const RowMatX3i& F, cons
                                     const ViewSetup& setup, const Camera& cam, int sw, int sh) {
   // Scale: the frame box's projected extent fills `fill` of the picture.
   const Vec3 centre = setup.frame.center();
-  double ex = 0, ey = 0;
-  for (int k = 0; k < 8; ++k) {
-    const Vec3 d = setup.frame.corner(Eigen::AlignedBox3d::CornerType(k)) - centre;
-    ex = std::max(ex, std::abs(d.dot(cam.right)));
-    ey = std::max(ey, std::abs(d.dot(cam.up)));
-  }
+  const Eigen::Vector2d extent = projected_extent(setup.view, setup.frame);
+  const double ex = extent.x() / 2, ey = extent.y() / 2;
   const double scale = setup.fill * std::min(sw / (2 * std::max(ex, 1e-300)), sh / (2 * std::max(ey, 1e-300)));
   std::vector<ScreenTriangle> tris(size_t(F.rows()));
   tbb::parallel_for(Eigen::Index(0), F.rows(), [&](Eigen::Index f) {
@@ -146,6 +148,18 @@ void rasterize_band(const std::vector<ScreenTriangle>& tris, int sw, int y0, int
 }
 
 }  // namespace
+
+Eigen::Vector2d projected_extent(View view, const Eigen::AlignedBox3d& box) {
+  const Camera cam = camera_for(view);
+  const Vec3 centre = box.center();
+  double ex = 0, ey = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 d = box.corner(Eigen::AlignedBox3d::CornerType(k)) - centre;
+    ex = std::max(ex, std::abs(d.dot(cam.right)));
+    ey = std::max(ey, std::abs(d.dot(cam.up)));
+  }
+  return {2 * ex, 2 * ey};
+}
 
 Image rasterize(const RowMatX3d& vertices, const RowMatX3i& faces, const std::vector<Rgb>& face_colours,
                 const ViewSetup& setup, int width, int height) {

@@ -42,6 +42,9 @@ struct ViewSetup {
   Rgb background{1, 1, 1};
 };
 
+/// The projected extent of `box` in `view`: (width, height) in metres.
+Eigen::Vector2d projected_extent(View view, const Eigen::AlignedBox3d& box);
+
 /// Renders triangles `faces` (#F×3) on `vertices` (#V×3, m), face f in colour `face_colours[f]`
 /// shaded by |n_f · l| (two-sided; l between the viewer and the zenith), into a width×height
 /// image (≥ 1 each). Throws InputError on size mismatches.
