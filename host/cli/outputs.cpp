@@ -67,13 +67,16 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
 }
 
 DesignFileInputs simulation_file_inputs(const Scene& scene, const SceneMeshes& meshes, const Eigen::VectorXd& alpha,
-                                        const Eigen::VectorXd& energy_density, const RowMatX3d& displacement) {
+                                        const Eigen::VectorXd& energy_density, const RowMatX3d& displacement,
+                                        const CutSurface* cut) {
   DesignFileInputs in;
   in.title = scene.name;
   in.base = &meshes.base;
   in.sim = &meshes.sim;
   in.sim_fields.face = {{"alpha", alpha}, {"W", energy_density}};
   in.sim_fields.vertex = {{"displacement", displacement}};
+  in.cut = cut;
+  in.fabrication = false;
   in.thickness = scene.material.thickness;
   in.min_feature = scene.fabrication.min_feature;
   return in;

@@ -38,9 +38,10 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
                                     const CutSurface& cut);
 
 /// The inputs of a simulation's files: fields.vtu (α, W, displacement) and the pictures (the
-/// design picture shows the base surface: a simulation has no cut surface).
+/// design picture shows `cut`, the design's stencils cut out, or the base surface when null).
 DesignFileInputs simulation_file_inputs(const Scene& scene, const SceneMeshes& meshes, const Eigen::VectorXd& alpha,
-                                        const Eigen::VectorXd& energy_density, const RowMatX3d& displacement);
+                                        const Eigen::VectorXd& energy_density, const RowMatX3d& displacement,
+                                        const CutSurface* cut);
 
 /// "DIR/{a, b, c}": the files written into `dir`, for the final summary line.
 std::string files_written(const std::filesystem::path& dir, const std::vector<std::string>& names);

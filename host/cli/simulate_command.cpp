@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "host/cli/outputs.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/cut/cut_surface.h"
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
@@ -34,7 +36,7 @@ struct SimulateOptions {
 /// Fill ratios of a design's stencils.json on the simulation mesh (the scene supplies the shapes
 /// and the orientation field the stencils' angles are measured from).
 Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshes, const std::string& file,
-                                    const FillRatioOptions& fill, int* count) {
+                                    const FillRatioOptions& fill, int* count, std::optional<CutSurface>* cut) {
   const PatternContext ctx(scene, meshes);
   const StencilsFile sf = read_stencils_json(file, ctx.shapes());
   *count = int(sf.stencils.size());
@@ -55,6 +57,7 @@ Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshe
                                    "orientation field gives ({:.3g} apart): this file was made with another scene",
                                    file, i, (axis - stored).norm()));
   }
+  *cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), sf.stencils);  // render_design
   return eval.alpha();
 }
 
@@ -82,11 +85,12 @@ void run_simulate(const SimulateOptions& opts) {
   Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
   int stencil_count = 0;
   nlohmann::json device_report = nullptr;
+  std::optional<CutSurface> cut;
   if (!opts.stencils.empty()) {
     sw.restart();
     const DeviceChoice device = choose_device(opts.device);
     device_report = device.report;
-    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count);
+    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count, &cut);
     timings.add("fill_ratios", sw.seconds());
   }
   sw.restart();
@@ -167,7 +171,7 @@ void run_simulate(const SimulateOptions& opts) {
   }
   ProgressLine progress(opts.run);
   const DesignFiles files =
-      prepare_design_files(simulation_file_inputs(scene, meshes, alpha, summary.energy_density, u),
+      prepare_design_files(simulation_file_inputs(scene, meshes, alpha, summary.energy_density, u, cut ? &*cut : nullptr),
                            design_file_options(opts.outputs, &progress));
   progress.finish();
 

@@ -42,7 +42,7 @@ DesignFiles prepare_design_files(const DesignFileInputs& in, const DesignFileOpt
   };
   DesignFiles d;
   d.m_in = in;
-  if (in.cut != nullptr) {
+  if (in.cut != nullptr && in.fabrication) {
     stage("solid");
     const Solid solid = thicken_surface(in.cut->vertices, in.cut->faces, in.thickness);
     const SolidCheck check = check_solid(solid);

@@ -31,6 +31,8 @@ struct DesignFileInputs {
   Eigen::VectorXd outline_types;
   /// The cut surface; null: no solid, no minimum-feature check, and render_design shows `base`.
   const CutSurface* cut = nullptr;
+  /// false: `cut` is only drawn (a simulation of a design's stencils): no solid, no check.
+  bool fabrication = true;
   double thickness = 0;                    ///< material thickness (m), for the solid
   double min_feature = 0.001;              ///< printable minimum (m)
 };

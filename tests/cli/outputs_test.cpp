@@ -72,6 +72,8 @@ TEST(CliOutputs, DesignWritesParaViewFieldsASolidAndPictures) {
   ASSERT_TRUE(vtu.fields.vertex.count("displacement"));
   EXPECT_GT(vtu.fields.vertex.at("displacement").cwiseAbs().maxCoeff(), 0.0);
   const auto report = read_json(out / "report.json");
+  EXPECT_EQ(report["device"]["requested"], "cpu");
+  EXPECT_EQ(report["device"]["reason"], "--device cpu");
   const VtpContents vtp = read_vtp_polylines(out / "stencils.vtp");
   EXPECT_EQ(vtp.lines.size(), report["stencils"]["count"].get<size_t>());
   // The solid: checked, written, and its volume is the cut area times the thickness.
