@@ -44,7 +44,11 @@ DesignFiles prepare_design_files(const DesignFileInputs& in, const DesignFileOpt
   d.m_in = in;
   if (in.cut != nullptr && in.fabrication) {
     stage("solid");
-    const Solid solid = thicken_surface(in.cut->vertices, in.cut->faces, in.thickness);
+    // Offset along the base surface's smooth Phong normals: the cut's sliver triangles along
+    // the outlines would otherwise fold the offset where the surface bends (the pavilion's feet).
+    const FaceBvh base_bvh(*in.base);
+    const RowMatX3d normals = surface_normals_at(base_bvh, in.cut->vertices);
+    const Solid solid = thicken_surface(in.cut->vertices, in.cut->faces, in.thickness, &normals);
     const SolidCheck check = check_solid(solid);
     if (check.valid()) d.m_solid = solid;
     stage("minimum feature");

@@ -1,5 +1,7 @@
 #include "host/export/solid.h"
 
+#include <tbb/parallel_for.h>
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +14,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/stencil/frame.h"
 
 namespace cutwork {
 namespace {
@@ -33,7 +36,16 @@ RowMatX3d vertex_normals(const RowMatX3d& V, const RowMatX3i& F) {
 
 }  // namespace
 
-Solid thicken_surface(const RowMatX3d& vertices, const RowMatX3i& faces, double thickness) {
+RowMatX3d surface_normals_at(const FaceBvh& bvh, const RowMatX3d& points) {
+  RowMatX3d n(points.rows(), 3);
+  tbb::parallel_for(Eigen::Index(0), points.rows(), [&](Eigen::Index i) {
+    const ClosestPoint c = bvh.closest_point(points.row(i).transpose());
+    n.row(i) = phong_normal_and_jacobian(*bvh.mesh(), c.where, nullptr).transpose();
+  });
+  return n;
+}
+
+Solid thicken_surface(const RowMatX3d& vertices, const RowMatX3i& faces, double thickness, const RowMatX3d* normals) {
   if (!(thickness > 0) || !std::isfinite(thickness))
     throw InputError(fmt::format("solid: the thickness must be positive (got {})", thickness));
   if (faces.rows() == 0) throw InputError("solid: the surface has no faces");
@@ -54,7 +66,9 @@ Solid thicken_surface(const RowMatX3d& vertices, const RowMatX3i& faces, double 
       if (!directed.count(key(b, a))) boundary.push_back({a, b});
     }
 
-  const RowMatX3d n = vertex_normals(vertices, faces);
+  if (normals != nullptr && normals->rows() != nv)
+    throw InputError(fmt::format("solid: {} normals for {} vertices", normals->rows(), nv));
+  const RowMatX3d n = normals != nullptr ? *normals : vertex_normals(vertices, faces);
   Solid s;
   s.vertices.resize(2 * nv, 3);
   s.vertices.topRows(nv) = vertices + 0.5 * thickness * n;

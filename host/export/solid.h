@@ -15,6 +15,7 @@
 #include <string>
 
 #include "host/core/types.h"
+#include "host/mesh/bvh.h"
 
 namespace cutwork {
 
@@ -28,7 +29,14 @@ struct Solid {
 /// Thickens `faces` on `vertices` by `thickness` (m, > 0; see the file comment). Throws
 /// InputError for a non-positive thickness, no faces, or a surface that is not manifold along
 /// its edges (an edge used twice in the same direction, or by more than two faces).
-Solid thicken_surface(const RowMatX3d& vertices, const RowMatX3i& faces, double thickness);
+/// `normals` (#V×3 unit, optional) replaces the area-weighted vertex normals: the cut surface's
+/// sliver triangles along outlines give noisy normals, so a design offsets along the smooth
+/// Phong normals of the base surface instead (surface_normals_at).
+Solid thicken_surface(const RowMatX3d& vertices, const RowMatX3i& faces, double thickness,
+                      const RowMatX3d* normals = nullptr);
+
+/// The Phong normal of the surface of `bvh` at the closest point to each of `points` (#P×3).
+RowMatX3d surface_normals_at(const FaceBvh& bvh, const RowMatX3d& points);
 
 /// What CGAL says about a solid (Polygon Mesh Processing, exact predicates).
 struct SolidCheck {

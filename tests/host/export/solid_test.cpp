@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <fstream>
 
 #include "host/core/error.h"
@@ -58,6 +60,23 @@ TEST(Solid, CutPlateAndCurvedBowlStayValidWithVolumeAreaTimesThickness) {
   EXPECT_TRUE(b.valid()) << b.problem;
   const double area = bowl.face_areas().sum();
   EXPECT_NEAR(b.volume, area * kThickness, 0.01 * area * kThickness);
+
+  // A cut bowl offset along the bowl's Phong normals (what a design does).
+  const FaceBvh bowl_bvh(bowl);
+  std::vector<StencilParams> on_bowl;
+  for (int i = 0; i < 6; ++i) {
+    StencilParams p;
+    p.position = bowl_bvh.closest_point(Vec3(0.06 * std::cos(i), 0.06 * std::sin(i), 0.05)).point;
+    p.scale = 0.015;
+    on_bowl.push_back(p);
+  }
+  const CutSurface cut_bowl = cut_stencils(bowl_bvh, shapes, field, on_bowl);
+  const RowMatX3d normals = surface_normals_at(bowl_bvh, cut_bowl.vertices);
+  const SolidCheck cb = check_solid(thicken_surface(cut_bowl.vertices, cut_bowl.faces, kThickness, &normals));
+  EXPECT_TRUE(cb.valid()) << cb.problem;
+  EXPECT_LT(cut_bowl.area, 0.99 * area) << "the stencils cut something";
+  EXPECT_NEAR(cb.volume, cut_bowl.area * kThickness, 0.01 * cut_bowl.area * kThickness);
+  EXPECT_THROW(thicken_surface(cut_bowl.vertices, cut_bowl.faces, kThickness, &bowl.vertices()), InputError);
 }
 
 TEST(Solid, ThickerThanTheCurvatureAllowsIsFoundSelfIntersecting) {
