@@ -110,10 +110,10 @@ std::string field_title(const DesignFields& f, Field field) {
     case Field::EnergyDensity:
       return fmt::format("{}: energy density W, max {:.4g} J/m\u00B2", f.title, f.energy_density.maxCoeff());
     case Field::FillRatio:
-      return fmt::format("{}: fill ratio \u03B1, material {:.1f}% of the faces' mean", f.title,
-                         100 * f.fill_ratio.mean());
+      return fmt::format("{}: fill ratio \u03B1, min {:.2f}, mean {:.2f} over the faces", f.title,
+                         f.fill_ratio.minCoeff(), f.fill_ratio.mean());
     case Field::Design:
-      return fmt::format("{}: cut design", f.title);
+      return fmt::format("{}: {}", f.title, f.fill_ratio.size() > 0 && f.fill_ratio.minCoeff() >= 1 ? "surface (uncut)" : "cut design");
   }
   return f.title;
 }
