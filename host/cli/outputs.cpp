@@ -16,7 +16,18 @@ namespace cutwork::cli {
 
 void add_output_options(CLI::App& cmd, OutputOptions& opts) {
   cmd.add_flag("--no-render", opts.no_render, "write no pictures (render_W.png, render_alpha.png, render_design.png)");
-  cmd.add_option("--render-size", opts.render_size, "size of each picture in pixels, WxH")->capture_default_str();
+  cmd.add_option("--render-size", opts.render_size, "size of each picture in pixels, WxH")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            try {
+              parse_size(text, "size");
+              return std::string();
+            } catch (const InputError& e) {
+              return std::string(e.what());
+            }
+          },
+          "WxH", "picture size"))
+      ->capture_default_str();
 }
 
 std::pair<int, int> parse_size(const std::string& text, const std::string& option) {
