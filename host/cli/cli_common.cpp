@@ -82,7 +82,8 @@ void say(const RunOptions& opts, const std::string& line) {
 void add_device_option(CLI::App& cmd, std::string& device) {
   cmd.add_option("--device", device,
                  "where the clip and fill kernels run: cpu (TBB), vulkan (a GPU, else Mesa's lavapipe; "
-                 "CUTWORK_VK_DEVICE picks one), or auto (Vulkan when a device exists, else the CPU)")
+                 "CUTWORK_VK_DEVICE picks one), or auto (a GPU when there is one, else the CPU; a CPU "
+                 "implementation of Vulkan such as lavapipe is left to --device vulkan)")
       ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
       ->capture_default_str();
 }
@@ -91,7 +92,8 @@ DeviceChoice choose_device(const std::string& device) {
   DeviceChoice c;
   c.backend = select_compute_backend(parse_device_request(device), &std::cerr);
   c.fill = FillRatioOptions::for_backend(c.backend);
-  c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver}};
+  c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver},
+              {"requested", device}, {"reason", c.backend.reason}};
   if (!c.backend.fallback_reason.empty()) c.report["fallback_reason"] = c.backend.fallback_reason;
   return c;
 }
@@ -114,6 +116,13 @@ void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
                              m_clock.seconds())
               << std::flush;
   }
+  m_dirty = true;
+}
+
+void ProgressLine::stage(const std::string& name) {
+  if (!m_active) return;
+  m_since_draw.restart();
+  std::cout << fmt::format("\r\x1b[K{} …  {:.1f} s", name, m_clock.seconds()) << std::flush;
   m_dirty = true;
 }
 

@@ -74,6 +74,9 @@ class ProgressLine {
   explicit ProgressLine(const RunOptions& opts);
   ~ProgressLine();
   void update(const std::string& phase, const PatternProgress& p);
+  /// Shows a stage without iterations ("pattern context", "uncut equilibrium", "cut", "render
+  /// W", …) with the elapsed time; always drawn (stages are rare).
+  void stage(const std::string& name);
   /// Ends the line (idempotent).
   void finish();
 

@@ -14,5 +14,6 @@ void add_check_command(CLI::App& app);
 void add_design_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
+void add_render_command(CLI::App& app);
 
 }  // namespace cutwork::cli

@@ -10,6 +10,7 @@
 
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
+#include "host/cli/outputs.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
 #include "host/cut/cut_surface.h"
@@ -29,6 +30,7 @@ struct DesignCommandOptions {
   std::string phases = "pattern,structure";
   std::string device = "auto";
   int iterations = 0;
+  OutputOptions outputs;
 };
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -85,12 +87,14 @@ void run_design_command(const DesignCommandOptions& opts) {
   const DeviceChoice device = choose_device(opts.device);
   timings.add("device", sw.seconds());
 
+  ProgressLine progress(opts.run);
   sw.restart();
+  progress.stage("pattern context");
   PatternContext ctx(scene, meshes);
   for (const auto& n : ctx.notes()) notes.push_back(n);
   timings.add("pattern_context", sw.seconds());
 
-  ProgressLine progress(opts.run);
+  progress.stage("uncut equilibrium");
   solvers::DesignOptions dopt;
   dopt.structure = structure;
   dopt.fill = device.fill;
@@ -100,14 +104,20 @@ void run_design_command(const DesignCommandOptions& opts) {
     return true;
   };
   const solvers::DesignResult r = solvers::run_design(scene, meshes, load_case, ctx, dopt);
-  progress.finish();
   for (const auto& [name, seconds] : r.timings.entries()) timings.add(name, seconds);
 
   // The cut surface: the base mesh with every stencil outline cut out.
   sw.restart();
+  progress.stage("cut");
   const std::vector<StencilParams> final_params = solvers::layout_params(r.layout);
   const CutSurface cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params);
   timings.add("cut", sw.seconds());
+  // Pictures, ParaView fields, the printable solid and its checks (host/export/design_files.h).
+  sw.restart();
+  const DesignFiles files = prepare_design_files(design_file_inputs(scene, meshes, load_case, ctx, r, cut),
+                                                 design_file_options(opts.outputs, &progress));
+  progress.finish();
+  timings.add("design_files", sw.seconds());
   timings.add("total", total.seconds());
 
   json report = base_report(scene, meshes, timings);
@@ -182,6 +192,7 @@ void run_design_command(const DesignCommandOptions& opts) {
                                  {"equilibrium_seconds", t.equilibrium}, {"equilibria", t.equilibria},
                                  {"newton_iterations", t.newton_iterations}, {"adjoint_seconds", t.adjoint},
                                  {"adjoints", t.adjoints},         {"pullback_seconds", t.pullback}};
+  report["fabrication"] = files.fabrication_report();
   report["notes"] = notes;
 
   // Everything is computed before anything is written: a failed run leaves no partial output.
@@ -193,14 +204,17 @@ void run_design_command(const DesignCommandOptions& opts) {
                              {{"alpha", r.final_design.alpha}, {"W", r.final_design.summary.energy_density},
                               {"W_pattern", r.pattern_design.summary.energy_density}});
   write_obj(out / "cut.obj", cut.vertices, cut.faces);
+  files.write(out);
   write_json_atomic(out / "report.json", report);
   for (const auto& n : notes) say(opts.run, "note: " + n);
+  std::vector<std::string> written = {"report.json", "stencils.json", "fields.ply", "cut.obj"};
+  for (const std::string& name : files.file_names()) written.push_back(name);
   say(opts.run,
       fmt::format("cutwork design: {}: {} stencils on {} triangles ({} simulated); W_max {:.4g} uncut, {:.4g} "
                   "pattern, {:.4g} final (J/m^2); material left {:.1f}%; wrote {}",
                   scene.name, r.layout.size(), meshes.base.num_faces(), meshes.sim.num_faces(),
                   r.uncut.summary.W_max, r.pattern_design.summary.W_max, r.final_design.summary.W_max,
-                  100 * r.final_design.material_fraction, out.string()));
+                  100 * r.final_design.material_fraction, files_written(out, written)));
 }
 
 }  // namespace
@@ -209,8 +223,10 @@ void add_design_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "design",
       "Design a stenciled shell: place stencils by the scene's pattern objective, optimise them with its "
-      "structural objective, and write DIR/report.json, stencils.json, fields.ply (per-face alpha and W) and "
-      "cut.obj (the surface with the stencils cut out)");
+      "structural objective, and write DIR/report.json, stencils.json, fields.ply (per-face alpha and W), "
+      "cut.obj (the surface with the stencils cut out), fields.vtu and stencils.vtp (ParaView), cut_solid.stl and "
+      "cut_solid.3mf (the cut surface thickened into a printable solid) and the pictures render_W.png, "
+      "render_alpha.png, render_design.png");
   auto opts = std::make_shared<DesignCommandOptions>();
   add_run_options(*cmd, opts->run, "pavilion");
   cmd->add_option("--phases", opts->phases,
@@ -219,6 +235,7 @@ void add_design_command(CLI::App& app) {
       ->check(CLI::IsMember({"pattern", "pattern,structure", "all", "none"}))
       ->capture_default_str();
   add_device_option(*cmd, opts->device);
+  add_output_options(*cmd, opts->outputs);
   cmd->add_option("--iterations", opts->iterations,
                   "L-BFGS-B iterations per phase, overriding the scene's pattern.max_iterations and "
                   "structure.max_iterations (0: the scene's)")

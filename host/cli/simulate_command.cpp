@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,8 +12,10 @@
 
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
+#include "host/cli/outputs.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/cut/cut_surface.h"
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
@@ -27,12 +30,13 @@ struct SimulateOptions {
   RunOptions run;
   std::string stencils;
   std::string device = "auto";
+  OutputOptions outputs;
 };
 
 /// Fill ratios of a design's stencils.json on the simulation mesh (the scene supplies the shapes
 /// and the orientation field the stencils' angles are measured from).
 Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshes, const std::string& file,
-                                    const FillRatioOptions& fill, int* count) {
+                                    const FillRatioOptions& fill, int* count, std::optional<CutSurface>* cut) {
   const PatternContext ctx(scene, meshes);
   const StencilsFile sf = read_stencils_json(file, ctx.shapes());
   *count = int(sf.stencils.size());
@@ -53,6 +57,7 @@ Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshe
                                    "orientation field gives ({:.3g} apart): this file was made with another scene",
                                    file, i, (axis - stored).norm()));
   }
+  *cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), sf.stencils);  // render_design
   return eval.alpha();
 }
 
@@ -80,11 +85,12 @@ void run_simulate(const SimulateOptions& opts) {
   Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
   int stencil_count = 0;
   nlohmann::json device_report = nullptr;
+  std::optional<CutSurface> cut;
   if (!opts.stencils.empty()) {
     sw.restart();
     const DeviceChoice device = choose_device(opts.device);
     device_report = device.report;
-    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count);
+    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count, &cut);
     timings.add("fill_ratios", sw.seconds());
   }
   sw.restart();
@@ -165,6 +171,11 @@ void run_simulate(const SimulateOptions& opts) {
     const auto& F = meshes.sim.faces();
     face_u[f] = (un[F(f, 0)] + un[F(f, 1)] + un[F(f, 2)]) / 3.0;
   }
+  ProgressLine progress(opts.run);
+  const DesignFiles files =
+      prepare_design_files(simulation_file_inputs(scene, meshes, alpha, summary.energy_density, u, cut ? &*cut : nullptr),
+                           design_file_options(opts.outputs, &progress));
+  progress.finish();
 
   // Everything is computed before anything is written: a failed run leaves no partial output.
   // report.json goes last: its presence says the run completed.
@@ -172,14 +183,17 @@ void run_simulate(const SimulateOptions& opts) {
   ensure_directory(out);
   write_ply_with_face_fields(out / "fields.ply", meshes.sim,
                              {{"alpha", alpha}, {"W", summary.energy_density}, {"displacement", face_u}});
+  files.write(out);
   write_json_atomic(out / "report.json", report);
+  std::vector<std::string> written = {"report.json", "fields.ply"};
+  for (const std::string& name : files.file_names()) written.push_back(name);
   for (const std::string& note : notes) say(opts.run, "note: " + note);
   say(opts.run, fmt::format("cutwork simulate: {}: {} triangles, {} DOFs; max displacement {:.4g} m, strain "
                             "energy {:.4g} J, compliance {:.4g} J, W_max {:.4g} J/m^2 ({} Newton iterations); "
                             "wrote {}",
                             scene.name, model.num_faces(), model.num_dofs(), summary.max_displacement,
                             summary.strain_energy, summary.compliance, summary.W_max, stats.newton_iterations,
-                            (out / "report.json").string()));
+                            files_written(out, written)));
 }
 
 }  // namespace
@@ -189,13 +203,15 @@ void add_simulate_command(CLI::App& app) {
       "simulate",
       "Solve the static equilibrium of a scene's shell under its supports and loads and write DIR/report.json "
       "(max displacement, strain energy, compliance, W_max, Newton statistics, timings) and DIR/fields.ply "
-      "(per-face alpha, energy density W and displacement on the simulation mesh)");
+      "(per-face alpha, energy density W and displacement on the simulation mesh), DIR/fields.vtu (the same for "
+      "ParaView, displacement per vertex) and the pictures render_W.png, render_alpha.png, render_design.png");
   auto opts = std::make_shared<SimulateOptions>();
   add_run_options(*cmd, opts->run, "plate");
   cmd->add_option("--stencils", opts->stencils,
                   "a design's stencils.json (from `cutwork design` on the same scene): simulate the stenciled "
                   "shell (fill ratios) instead of the uncut one");
   add_device_option(*cmd, opts->device);
+  add_output_options(*cmd, opts->outputs);
   cmd->callback([opts] { run_simulate(*opts); });
 }
 

@@ -326,6 +326,13 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
     s.finish();
   }
 
+  // ---- fabrication
+  {
+    JsonObjectReader f = root.object("fabrication");
+    scene.fabrication.min_feature = f.number("min_feature", FabricationSettings{}.min_feature, 0, 10);
+    f.finish();
+  }
+
   root.finish();
   return scene;
 }
@@ -407,6 +414,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                     {"max_rounds", st.max_rounds},
                     {"fill_holes", st.fill_holes},
                     {"max_rotation", st.max_rotation}};
+  j["fabrication"] = {{"min_feature", s.fabrication.min_feature}};
   return j;
 }
 

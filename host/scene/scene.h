@@ -120,6 +120,11 @@ struct StructureSettings {
                                         ///< away from the orientation field's direction
 };
 
+/// What the printed part must satisfy (cut_solid.stl / .3mf, the minimum-feature check).
+struct FabricationSettings {
+  double min_feature = 0.001;  ///< narrowest printable ligament between stencils or to the border (m)
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -133,6 +138,7 @@ struct Scene {
   std::vector<StencilShapeSpec> shapes;
   PatternSettings pattern;
   StructureSettings structure;
+  FabricationSettings fabrication;
 };
 
 /// Parses and validates a scene document. `origin` names it in messages (a file name or

@@ -76,18 +76,40 @@ ComputeBackend cpu_backend() {
   return b;
 }
 
+bool auto_takes_vulkan_device(std::string_view device_type, bool explicitly_selected) {
+  if (explicitly_selected) return true;
+  return device_type == "discrete GPU" || device_type == "integrated GPU" || device_type == "virtual GPU";
+}
+
 ComputeBackend select_compute_backend(DeviceRequest request, std::ostream* warnings) {
-  if (request == DeviceRequest::Cpu) return cpu_backend();
+  if (request == DeviceRequest::Cpu) {
+    ComputeBackend b = cpu_backend();
+    b.reason = "--device cpu";
+    return b;
+  }
   std::string why;
 #if CUTWORK_WITH_VULKAN
   try {
     vulkan::ContextOptions options = vulkan::ContextOptions::from_environment();
     options.require_float64 = true;
     auto context = std::make_shared<vulkan::Context>(options);
+    const vulkan::PhysicalDeviceInfo& info = context->info();
+    const std::string type(vulkan::to_string(info.type));
+    const bool selected = !options.device.empty();
+    if (request == DeviceRequest::Auto && !auto_takes_vulkan_device(type, selected)) {
+      // Not a failure: a machine without a GPU runs the kernels on the TBB twins.
+      ComputeBackend b = cpu_backend();
+      b.reason = "--device auto: no GPU; the best Vulkan device, " + info.name + ", is a " + type +
+                 " implementation, slower than the TBB kernels (--device vulkan uses it)";
+      return b;
+    }
     ComputeBackend b;
     b.kind = ComputeBackend::Kind::Vulkan;
-    b.name = context->info().name;
-    b.driver = context->info().driver;
+    b.name = info.name;
+    b.driver = info.driver;
+    b.reason = request == DeviceRequest::Vulkan ? "--device vulkan"
+               : selected ? "--device auto: CUTWORK_VK_DEVICE=" + options.device + " selects " + type + " " + info.name
+                          : "--device auto: " + type + " " + info.name;
     b.context = std::move(context);
     return b;
   } catch (const DeviceError& e) {
@@ -100,6 +122,7 @@ ComputeBackend select_compute_backend(DeviceRequest request, std::ostream* warni
 #endif
   ComputeBackend b = cpu_backend();
   b.fallback_reason = why;
+  b.reason = "--device auto: no usable Vulkan device (" + why + ")";
   if (warnings != nullptr) {
     *warnings << "cutwork: warning: no usable Vulkan device, running the kernels on the CPU ("
               << why << ")\n";

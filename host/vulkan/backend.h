@@ -4,8 +4,13 @@
 ///   cpu     the TBB twins.
 ///   vulkan  the Vulkan twins on the device Context chooses (CUTWORK_VK_DEVICE overrides);
 ///           DeviceError when this build has no Vulkan, no driver or no usable device exists.
-///   auto    Vulkan when a usable device exists (a discrete or integrated GPU, else lavapipe),
-///           else the CPU with ONE warning line on `warnings` saying why.
+///   auto    Vulkan when a usable GPU exists (discrete, integrated or virtual), else the TBB
+///           twins. A CPU implementation of Vulkan (Mesa's lavapipe) is not taken: it emulates
+///           the GPU on the same cores the TBB twins use, and is slower than them (the default
+///           pavilion design: 15.2 s on lavapipe, 8.7 s on the CPU kernels). Without any usable
+///           Vulkan device (no driver, no fp64) `auto` warns with ONE line on `warnings`; when
+///           the only devices are CPU implementations it takes the CPU silently and says why in
+///           `reason`. CUTWORK_VK_DEVICE set to a CPU device still makes `auto` use it.
 ///
 /// "Usable" includes shaderFloat64: the GPU twins compute in double, like the CPU twins (see
 /// host/vulkan/clip_fill_vk.h for why). This header and backend.cpp compile with or without
@@ -36,8 +41,11 @@ struct ComputeBackend {
   std::string driver;  ///< Vulkan driver name and version, or the TBB version
   /// The Vulkan context, shared by everything that dispatches kernels; null for the CPU.
   std::shared_ptr<vulkan::Context> context;
-  /// Non-empty when `auto` fell back to the CPU: why (the warning line's text).
+  /// Non-empty when `auto` fell back to the CPU because no Vulkan device was usable: why (the
+  /// warning line's text).
   std::string fallback_reason;
+  /// Why this backend was chosen, for report.json's `device.reason` (always set).
+  std::string reason;
 
   /// "cpu" or "vulkan".
   std::string_view kind_name() const { return kind == Kind::Cpu ? "cpu" : "vulkan"; }
@@ -50,6 +58,11 @@ bool vulkan_compiled_in();
 /// ContextOptions::from_environment() plus require_float64. The warning goes to `warnings`
 /// (nullptr: nowhere) as one line "cutwork: warning: …".
 ComputeBackend select_compute_backend(DeviceRequest request, std::ostream* warnings);
+
+/// `auto`'s rule for the device Vulkan's scoring chose (see the file comment): true for a GPU
+/// of type "discrete GPU", "integrated GPU" or "virtual GPU", or any device `CUTWORK_VK_DEVICE`
+/// named (`explicitly_selected`); false for "CPU" and "other" device types.
+bool auto_takes_vulkan_device(std::string_view device_type, bool explicitly_selected);
 
 /// The CPU backend's description (name = CPU model and TBB thread count, driver = TBB version).
 ComputeBackend cpu_backend();

@@ -55,5 +55,18 @@ TEST(ComputeBackendSelection, WithoutVulkanInTheBuildAutoWarnsOnceAndVulkanFails
   EXPECT_THROW(select_compute_backend(DeviceRequest::Vulkan, nullptr), DeviceError);
 }
 
+TEST(ComputeBackendSelection, AutoTakesGpusOnlyUnlessADeviceIsNamed) {
+  EXPECT_TRUE(auto_takes_vulkan_device("discrete GPU", false));
+  EXPECT_TRUE(auto_takes_vulkan_device("integrated GPU", false));
+  EXPECT_TRUE(auto_takes_vulkan_device("virtual GPU", false));
+  EXPECT_FALSE(auto_takes_vulkan_device("CPU", false));
+  EXPECT_FALSE(auto_takes_vulkan_device("other", false));
+  EXPECT_TRUE(auto_takes_vulkan_device("CPU", true));
+}
+
+TEST(ComputeBackendSelection, CpuRequestSaysWhy) {
+  EXPECT_EQ(select_compute_backend(DeviceRequest::Cpu, nullptr).reason, "--device cpu");
+}
+
 }  // namespace
 }  // namespace cutwork

@@ -446,12 +446,15 @@ TEST_F(VulkanTest, UnknownDeviceSelectorIsADeviceError) {
   }
 }
 
-/// Sets an environment variable for one scope.
+/// Sets an environment variable for one scope (value nullptr: unsets it).
 class ScopedEnv {
  public:
   ScopedEnv(const char* name, const char* value) : m_name(name) {
     if (const char* old = std::getenv(name)) m_old = old;
-    ::setenv(name, value, 1);
+    if (value != nullptr)
+      ::setenv(name, value, 1);
+    else
+      ::unsetenv(name);
   }
   ~ScopedEnv() {
     if (m_old)
@@ -508,20 +511,51 @@ class VulkanBackendVk : public VulkanTest {};
 TEST_F(VulkanBackendVk, AutoAndVulkanChooseTheDevice) {
   ScopedEnv validation("CUTWORK_VK_VALIDATION", "1");
   std::ostringstream warnings;
+  ScopedEnv no_selector("CUTWORK_VK_DEVICE", nullptr);
   const ComputeBackend b = select_compute_backend(DeviceRequest::Auto, &warnings);
   const ComputeBackend v = select_compute_backend(DeviceRequest::Vulkan, &warnings);
   ASSERT_EQ(v.kind, ComputeBackend::Kind::Vulkan);  // every device here has fp64 (lavapipe does)
-  ASSERT_EQ(b.kind, ComputeBackend::Kind::Vulkan);
   EXPECT_TRUE(warnings.str().empty()) << warnings.str();
   ASSERT_NE(v.context, nullptr);
-  ASSERT_NE(b.context, nullptr);
   EXPECT_TRUE(v.context->validation_enabled());
-  EXPECT_TRUE(b.context->validation_enabled());
   EXPECT_EQ(v.name, v.context->info().name);
   EXPECT_EQ(v.driver, v.context->info().driver);
   EXPECT_EQ(v.kind_name(), "vulkan");
+  EXPECT_EQ(v.reason, "--device vulkan");
   expect_no_validation_messages(*v.context);
-  expect_no_validation_messages(*b.context);
+  // auto takes the device `vulkan` takes exactly when it is a GPU; lavapipe is left alone.
+  const bool gpu = v.context->info().type != vulkan::DeviceType::Cpu &&
+                   v.context->info().type != vulkan::DeviceType::Other;
+  EXPECT_FALSE(b.reason.empty());
+  if (gpu) {
+    ASSERT_EQ(b.kind, ComputeBackend::Kind::Vulkan);
+    ASSERT_NE(b.context, nullptr);
+    EXPECT_TRUE(b.context->validation_enabled());
+    expect_no_validation_messages(*b.context);
+  } else {
+    EXPECT_EQ(b.kind, ComputeBackend::Kind::Cpu);
+    EXPECT_EQ(b.context, nullptr);
+    EXPECT_TRUE(b.fallback_reason.empty()) << "a CPU-only Vulkan machine is not a failure";
+    EXPECT_NE(b.reason.find(v.name), std::string::npos) << b.reason;
+    EXPECT_NE(b.reason.find("CPU"), std::string::npos) << b.reason;
+  }
+}
+
+// The lavapipe-only machine (CI, and any machine without a GPU): auto runs the TBB kernels.
+TEST_F(VulkanBackendVk, AutoPicksTheCpuWhenTheOnlyVulkanDeviceIsACpuDevice) {
+  ScopedEnv no_selector("CUTWORK_VK_DEVICE", nullptr);
+  for (const auto& d : ctx().devices())
+    if (d.type != vulkan::DeviceType::Cpu) GTEST_SKIP() << "a non-CPU Vulkan device is present: " << d.name;
+  std::ostringstream warnings;
+  const ComputeBackend b = select_compute_backend(DeviceRequest::Auto, &warnings);
+  EXPECT_EQ(b.kind, ComputeBackend::Kind::Cpu);
+  EXPECT_EQ(b.context, nullptr);
+  EXPECT_TRUE(warnings.str().empty()) << warnings.str();
+  EXPECT_NE(b.reason.find("no GPU"), std::string::npos) << b.reason;
+  // Naming the CPU device explicitly still uses it.
+  ScopedEnv selector("CUTWORK_VK_DEVICE", "0");
+  const ComputeBackend named = select_compute_backend(DeviceRequest::Auto, &warnings);
+  EXPECT_EQ(named.kind, ComputeBackend::Kind::Vulkan);
 }
 
 }  // namespace

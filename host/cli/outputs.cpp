@@ -1,0 +1,100 @@
+#include "host/cli/outputs.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+#include "host/export/stencil_outlines.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
+
+namespace cutwork::cli {
+
+void add_output_options(CLI::App& cmd, OutputOptions& opts) {
+  cmd.add_flag("--no-render", opts.no_render, "write no pictures (render_W.png, render_alpha.png, render_design.png)");
+  cmd.add_option("--render-size", opts.render_size, "size of each picture in pixels, WxH")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            try {
+              parse_size(text, "size");
+              return std::string();
+            } catch (const InputError& e) {
+              return std::string(e.what());
+            }
+          },
+          "WxH", "picture size"))
+      ->capture_default_str();
+}
+
+std::pair<int, int> parse_size(const std::string& text, const std::string& option) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 64 ||
+      w > 8192 || h < 48 || h > 8192)
+    throw InputError(fmt::format("{} '{}': expected WxH with W in [64, 8192] and H in [48, 8192], e.g. 1200x420",
+                                 option, text));
+  return {w, h};
+}
+
+DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* progress) {
+  DesignFileOptions o;
+  o.render = !opts.no_render;
+  std::tie(o.pictures.width, o.pictures.height) = parse_size(opts.render_size, "--render-size");
+  if (progress != nullptr) o.progress = [progress](const std::string& s) { progress->stage(s); };
+  return o;
+}
+
+RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
+                                   const Eigen::VectorXd& alpha) {
+  const solvers::ShellModel model(meshes.sim, scene.material, load_case);
+  solvers::EquilibriumSolver solver(model);
+  solver.solve(alpha);
+  return solver.displacements();
+}
+
+DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
+                                    const PatternContext& ctx, const solvers::DesignResult& r, const CutSurface& cut) {
+  DesignFileInputs in;
+  in.title = scene.name;
+  in.base = &meshes.base;
+  in.sim = &meshes.sim;
+  in.sim_fields.face = {{"alpha", r.final_design.alpha},
+                        {"W", r.final_design.summary.energy_density},
+                        {"W_pattern", r.pattern_design.summary.energy_density}};
+  in.sim_fields.vertex = {{"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha)}};
+  if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
+  const std::vector<StencilParams> params = solvers::layout_params(r.layout);
+  in.outlines = stencil_outlines(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), params);
+  in.outline_types.resize(Eigen::Index(params.size()));
+  for (size_t i = 0; i < params.size(); ++i) in.outline_types[Eigen::Index(i)] = params[i].type;
+  in.cut = &cut;
+  in.thickness = scene.material.thickness;
+  in.min_feature = scene.fabrication.min_feature;
+  return in;
+}
+
+DesignFileInputs simulation_file_inputs(const Scene& scene, const SceneMeshes& meshes, const Eigen::VectorXd& alpha,
+                                        const Eigen::VectorXd& energy_density, const RowMatX3d& displacement,
+                                        const CutSurface* cut) {
+  DesignFileInputs in;
+  in.title = scene.name;
+  in.base = &meshes.base;
+  in.sim = &meshes.sim;
+  in.sim_fields.face = {{"alpha", alpha}, {"W", energy_density}};
+  in.sim_fields.vertex = {{"displacement", displacement}};
+  in.cut = cut;
+  in.fabrication = false;
+  in.thickness = scene.material.thickness;
+  in.min_feature = scene.fabrication.min_feature;
+  return in;
+}
+
+std::string files_written(const std::filesystem::path& dir, const std::vector<std::string>& names) {
+  return fmt::format("{}/{{{}}}", dir.string(), fmt::join(names, ", "));
+}
+
+}  // namespace cutwork::cli
