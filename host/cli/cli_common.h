@@ -44,10 +44,6 @@ struct LoadedScene {
 /// Bounds TBB's parallelism for the lifetime of the returned object (none when threads == 0).
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 
-/// The report fields every pipeline writes: scene, mesh counts, timings.
-nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings);
-nlohmann::json timings_json(const Timings& timings);
-
 /// Prints a progress/notice line to stderr unless quiet.
 void say(const RunOptions& opts, const std::string& line);
 
