@@ -13,5 +13,6 @@ void add_show_command(CLI::App& app);
 void add_check_command(CLI::App& app);
 void add_design_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
+void add_sweep_command(CLI::App& app);
 
 }  // namespace cutwork::cli

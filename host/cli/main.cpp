@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   cutwork::cli::add_check_command(app);
   cutwork::cli::add_design_command(app);
   cutwork::cli::add_simulate_command(app);
+  cutwork::cli::add_sweep_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
