@@ -100,6 +100,7 @@ void coordinate(const MpiSession& mpi, const SweepPlan& plan, const SweepOptions
       for (int i = take(); i >= 0; i = take()) {
         progress.started();
         VariantResult r = run_variant(plan, size_t(i), options.device);
+        progress.finished(r.ok);  // counted here, recorded by the main thread
         std::lock_guard lock(mutex);
         local_done.push_back(std::move(r));
       }
@@ -114,10 +115,7 @@ void coordinate(const MpiSession& mpi, const SweepPlan& plan, const SweepOptions
       std::lock_guard lock(mutex);
       finished.swap(local_done);
     }
-    for (const VariantResult& r : finished) {
-      plan.record(r);
-      progress.finished(r.ok);
-    }
+    for (const VariantResult& r : finished) plan.record(r);
     return !finished.empty();
   };
   int workers = mpi.size() - 1;

@@ -52,11 +52,13 @@ size_t parse_memory_size(const std::string& text, const std::string& what) {
 }
 
 size_t estimate_design_memory(const SceneMeshes& meshes) {
-  // Peak resident memory of single designs, measured (docs/SWEEP.md): a fixed part (the
-  // process, the pattern context) and parts per base and per simulated triangle (the cut, the
-  // clip pairs, the CHOLMOD factor), doubled as a margin.
-  const double base = 40e6, per_base_face = 12e3, per_sim_face = 30e3;
-  return size_t(2 * (base + per_base_face * meshes.base.num_faces() + per_sim_face * meshes.sim.num_faces()));
+  // Peak resident memory of single designs (1 thread, /usr/bin/time): the bowl at its edge
+  // lengths and at 1/2 and 1/4 of them — 2646/1350, 11094/5400, 44376/22326 base/simulated
+  // triangles — peaked at 32, 51 and 149 MB: about 30 MB (the process, the pattern context) and
+  // 2 kB per base and per simulated triangle (the cut, clip pairs, the CHOLMOD factor). Doubled as
+  // a margin (more stencils mean more clip pairs).
+  const double fixed = 30e6, per_face = 2e3;
+  return size_t(2 * (fixed + per_face * double(meshes.base.num_faces() + meshes.sim.num_faces())));
 }
 
 std::vector<std::string> SweepPlan::axis_pointers() const {

@@ -131,6 +131,7 @@ void draw_panel(cairo_t* cr, Panel p, const std::vector<VariantResult>& results,
   }
   cairo_stroke(cr);
   cairo_restore(cr);
+  cairo_set_source_rgb(cr, 0.8, 0.15, 0.1);
   cairo_set_font_size(cr, 12);
   for (size_t i : front) {
     const VariantResult& r = results[i];

@@ -165,6 +165,16 @@ TEST_F(SweepCommand, KilledPartWayAndResumedGivesTheSameSummary) {
   EXPECT_EQ(summary_without_seconds(out), summary_without_seconds(reference()));
 }
 
+// Every variant reserves at most the whole budget, so a budget below one variant's estimate runs
+// them one at a time — and the summary does not depend on that.
+TEST_F(SweepCommand, AMemoryBudgetBelowOneVariantRunsThemAllOneAtATime) {
+  const fs::path out = root() / "memory";
+  const auto r = run_cutwork("sweep " + (root() / "sweep.json").string() + " --out " + out.string() +
+                             " --jobs 2 --memory 1K");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(summary_without_seconds(out), summary_without_seconds(reference()));
+}
+
 TEST_F(SweepCommand, AFolderOfAnotherSweepIsRefused) {
   std::string other = kSweep;
   other.replace(other.find("0.004"), 5, "0.005");
