@@ -39,8 +39,13 @@ void run_sweep_command(const SweepOptions& opts) {
     return;
   }
   if (mpi.size() > 1) {
-    const size_t ran = run_sweep_mpi(mpi, plan, opts);
-    if (mpi.rank() == 0) report_done(plan, opts, ran, plan.write_tables());
+    try {
+      const size_t ran = run_sweep_mpi(mpi, plan, opts);
+      if (mpi.rank() == 0) report_done(plan, opts, ran, plan.write_tables());
+    } catch (const std::exception& e) {
+      if (mpi.failed_collectively()) throw;  // every rank stopped alike: one line from rank 0
+      mpi.abort(e.what());
+    }
     return;
   }
   plan.prepare_folder();

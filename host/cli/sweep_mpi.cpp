@@ -24,6 +24,10 @@ namespace cutwork::cli {
 MpiSession::MpiSession() = default;
 MpiSession::~MpiSession() = default;
 void MpiSession::quiet_exit() { std::exit(2); }
+void MpiSession::abort(const std::string& message) {
+  std::cerr << "cutwork: " << message << "\n";
+  std::exit(2);
+}
 
 size_t run_sweep_mpi(MpiSession&, const SweepPlan& plan, const SweepOptions& options) {
   plan.prepare_folder();
@@ -167,6 +171,12 @@ MpiSession::~MpiSession() {
 
 void MpiSession::quiet_exit() {
   if (m_initialised) MPI_Finalize();
+  std::exit(2);
+}
+
+void MpiSession::abort(const std::string& message) {
+  std::cerr << "cutwork: rank " << m_rank << ": " << message << "\n" << std::flush;
+  MPI_Abort(MPI_COMM_WORLD, 2);
   std::exit(2);
 }
 

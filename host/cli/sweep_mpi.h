@@ -2,6 +2,7 @@
 /// `cutwork sweep` across MPI ranks (OpenMPI; built with CUTWORK_WITH_MPI). Without MPI, or when
 /// not started by mpirun, MpiSession is a single rank and the sweep runs locally.
 #include <cstddef>
+#include <string>
 #include <utility>
 
 #include "host/cli/sweep_runner.h"
@@ -37,6 +38,10 @@ class MpiSession {
   [[noreturn]] void quiet_exit();
   /// Marks a failure every rank shares: ending without MPI_Abort is safe.
   void collective_failure() { m_collective_failure = true; }
+  bool failed_collectively() const { return m_collective_failure; }
+  /// One rank failed part way (a disk error): says so in one line on stderr and ends every rank
+  /// with exit code 2 (MPI_Abort), since the others may wait on this one for ever.
+  [[noreturn]] void abort(const std::string& message);
 
  private:
   int m_rank = 0, m_size = 1;
