@@ -6,17 +6,20 @@
 //                                the TBB twins with all threads; budget = L-BFGS-B iterations per
 //                                phase (200: the scenes' default; 3000: until the optimiser stops
 //                                on its own tolerances).
-// Counters (seconds, read off the design's own phase timings, as report.json has them):
+// Counters, read off the design's report.json object (solvers/report, the same report
+// `cutwork design` writes; it is built after the timed region):
 //   pattern_s / paper_pattern_s, structure_s / paper_structure_s, and stencils, v, v_sim,
 //   iterations, structure_evaluations_per_iteration (objective evaluations per L-BFGS-B iteration
 //   of the structural phase), W_max_pattern, W_max_final and W_ratio = W_max_final / W_max_pattern.
 // Manual time = pattern_s + structure_s. One iteration per run (a design is seconds long).
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "solvers/optimize/design_pipeline.h"
+#include "solvers/report/design_report.h"
 
 namespace cutwork {
 namespace {
@@ -47,32 +50,38 @@ void BM_Design(benchmark::State& state, const PaperRow& row) {
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
   solvers::DesignResult r;
+  std::unique_ptr<PatternContext> ctx;
   for (auto _ : state) {
-    PatternContext ctx(scene, meshes);
+    ctx = std::make_unique<PatternContext>(scene, meshes);
     solvers::DesignOptions o;
     o.pattern_iterations = budget;
     o.structure_iterations = budget;
-    r = solvers::run_design(scene, meshes, lc, ctx, o);
+    r = solvers::run_design(scene, meshes, lc, *ctx, o);
     const double structure = r.structure ? r.structure->seconds : 0.0;
     state.SetIterationTime(r.pattern.seconds + structure);
   }
-  const double structure = r.structure ? r.structure->seconds : 0.0;
-  state.counters["pattern_s"] = r.pattern.seconds;
+  const nlohmann::json report = solvers::finish_design(scene, meshes, *ctx, r, {}, Stopwatch()).report;
+  const nlohmann::json& phases = report["phases"];
+  const nlohmann::json& st = report["structure"];
+  const double structure = phases.size() > 1 ? phases[1]["seconds"].get<double>() : 0.0;
+  state.counters["pattern_s"] = phases[0]["seconds"].get<double>();
   state.counters["paper_pattern_s"] = row.pattern_seconds;
   state.counters["structure_s"] = structure;
   state.counters["paper_structure_s"] = row.structure_seconds;
-  state.counters["stencils"] = double(r.layout.size());
+  state.counters["stencils"] = report["stencils"]["count"].get<double>();
   state.counters["paper_stencils"] = row.stencils;
-  state.counters["v"] = meshes.base.num_vertices();
-  state.counters["v_sim"] = meshes.sim.num_vertices();
-  state.counters["iterations"] = double(r.pattern.iterations + (r.structure ? r.structure->iterations : 0));
-  if (r.structure && r.structure->iterations > 0)
+  state.counters["v"] = report["mesh"]["vertices"].get<double>();
+  state.counters["v_sim"] = report["mesh"]["sim_vertices"].get<double>();
+  double iterations = 0;
+  for (const auto& p : phases) iterations += p["iterations"].get<double>();
+  state.counters["iterations"] = iterations;
+  state.counters["W_max_pattern"] = st["W_max_pattern"].get<double>();
+  state.counters["W_max_final"] = st["W_max_final"].get<double>();
+  state.counters["W_ratio"] = st["W_max_final"].get<double>() / st["W_max_pattern"].get<double>();
+  state.counters["C_ratio"] = st["compliance_final"].get<double>() / st["compliance_pattern"].get<double>();
+  if (phases.size() > 1 && phases[1]["iterations"].get<double>() > 0)
     state.counters["structure_evaluations_per_iteration"] =
-        double(r.structure->evaluations) / double(r.structure->iterations);
-  state.counters["W_max_pattern"] = r.pattern_design.summary.W_max;
-  state.counters["W_max_final"] = r.final_design.summary.W_max;
-  state.counters["W_ratio"] = r.final_design.summary.W_max / r.pattern_design.summary.W_max;
-  state.counters["C_ratio"] = r.final_design.summary.compliance / r.pattern_design.summary.compliance;
+        phases[1]["evaluations"].get<double>() / phases[1]["iterations"].get<double>();
   state.SetLabel(r.structure ? r.structure->objective + ", " + r.structure->stop_reason : "pattern only");
 }
 

@@ -55,26 +55,6 @@ std::unique_ptr<tbb::global_control> limit_threads(int threads) {
                                                size_t(threads));
 }
 
-nlohmann::json timings_json(const Timings& timings) {
-  nlohmann::json t = nlohmann::json::object();
-  for (const auto& [name, seconds] : timings.entries()) t[name] = seconds;
-  return t;
-}
-
-nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings) {
-  nlohmann::json r;
-  r["scene"] = scene.name;
-  r["scene_source"] = scene_origin(scene);
-  r["mesh"] = {{"vertices", meshes.base.num_vertices()},
-               {"triangles", meshes.base.num_faces()},
-               {"sim_vertices", meshes.sim.num_vertices()},
-               {"sim_triangles", meshes.sim.num_faces()},
-               {"sim_is_base", meshes.sim_is_base},
-               {"map_max_distance", meshes.map.max_distance}};
-  r["timings"] = timings_json(timings);
-  return r;
-}
-
 void say(const RunOptions& opts, const std::string& line) {
   if (!opts.quiet) std::cerr << line << "\n";
 }

@@ -45,10 +45,6 @@ struct LoadedScene {
 /// factorisations' OpenBLAS and OpenMP threads follow the same bound (solvers/linear/thread_policy.h).
 std::unique_ptr<tbb::global_control> limit_threads(int threads);
 
-/// The report fields every pipeline writes: scene, mesh counts, timings.
-nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings);
-nlohmann::json timings_json(const Timings& timings);
-
 /// Prints a progress/notice line to stderr unless quiet.
 void say(const RunOptions& opts, const std::string& line);
 

@@ -15,5 +15,6 @@ void add_design_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
 void add_render_command(CLI::App& app);
+void add_sweep_command(CLI::App& app);
 
 }  // namespace cutwork::cli

@@ -1,10 +1,10 @@
 // `cutwork design [SCENE|NAME|MESH] --out DIR`: the whole pipeline for one design — pattern phase,
-// structural phase, and the outputs report.json, stencils.json, fields.ply and cut.obj.
+// structural phase, and the outputs (solvers/report/design_report.h): report.json, stencils.json,
+// fields.ply, cut.obj and the designer's files (host/export/design_files.h).
 #include <CLI/CLI.hpp>
 
-#include <cmath>
 #include <filesystem>
-#include <map>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -13,11 +13,10 @@
 #include "host/cli/outputs.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
-#include "host/cut/cut_surface.h"
 #include "host/io/json_io.h"
-#include "host/mesh/mesh_io.h"
-#include "host/pattern/stencils_json.h"
 #include "solvers/optimize/design_pipeline.h"
+#include "solvers/report/design_report.h"
+#include "solvers/report/run_report.h"
 
 namespace cutwork::cli {
 
@@ -32,30 +31,6 @@ struct DesignCommandOptions {
   int iterations = 0;
   OutputOptions outputs;
 };
-
-json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-json state_json(const solvers::DesignState& d) {
-  return {{"stencils", d.stencils},
-          {"W_max", d.summary.W_max},
-          {"compliance", d.summary.compliance},
-          {"strain_energy", d.summary.strain_energy},
-          {"max_displacement", d.summary.max_displacement},
-          {"material_fraction", d.material_fraction},
-          {"newton_iterations", d.stats.newton_iterations},
-          {"residual", d.stats.residual},
-          {"converged", d.stats.converged},
-          {"stop", d.stats.stop},
-          {"stable", d.stats.stable}};
-}
-
-json phase_json(const std::string& name, int iterations, int evaluations, int rounds, double seconds,
-                double J0, double J1, double S0, double S1, double P0, double P1, const std::string& stop) {
-  return {{"name", name},          {"iterations", iterations}, {"evaluations", evaluations},
-          {"rounds", rounds},      {"seconds", seconds},       {"J_start", number_or_null(J0)},
-          {"J_end", number_or_null(J1)}, {"S_start", number_or_null(S0)}, {"S_end", number_or_null(S1)},
-          {"P_start", number_or_null(P0)}, {"P_end", number_or_null(P1)}, {"stop_reason", stop}};
-}
 
 void run_design_command(const DesignCommandOptions& opts) {
   auto threads = limit_threads(opts.run.threads);
@@ -72,7 +47,7 @@ void run_design_command(const DesignCommandOptions& opts) {
   const std::filesystem::path out(opts.run.out);
   if (none) {
     timings.add("total", total.seconds());
-    json report = base_report(scene, meshes, timings);
+    json report = solvers::base_report(scene, meshes, timings);
     report["phases"] = json::array();
     ensure_directory(out);
     write_json_atomic(out / "report.json", report);
@@ -104,117 +79,21 @@ void run_design_command(const DesignCommandOptions& opts) {
     return true;
   };
   const solvers::DesignResult r = solvers::run_design(scene, meshes, load_case, ctx, dopt);
-  for (const auto& [name, seconds] : r.timings.entries()) timings.add(name, seconds);
-
-  // The cut surface: the base mesh with every stencil outline cut out.
-  sw.restart();
-  progress.stage("cut");
-  const std::vector<StencilParams> final_params = solvers::layout_params(r.layout);
-  const CutSurface cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params);
-  timings.add("cut", sw.seconds());
-  // Pictures, ParaView fields, the printable solid and its checks (host/export/design_files.h).
-  sw.restart();
-  const DesignFiles files = prepare_design_files(design_file_inputs(scene, meshes, load_case, ctx, r, cut),
-                                                 design_file_options(opts.outputs, &progress));
-  progress.finish();
-  timings.add("design_files", sw.seconds());
-  timings.add("total", total.seconds());
-
-  json report = base_report(scene, meshes, timings);
-  report["device"] = device.report;
-  std::map<std::string, int> per_type;
-  for (const auto& s : r.layout) per_type[ctx.shapes()[s.type].name] += 1;
-  report["stencils"] = {{"count", r.layout.size()},
-                        {"initial", r.pattern.initial_count},
-                        {"removed", r.pattern.removed + (r.structure ? r.structure->removed : 0)},
-                        {"inserted_by_hole_filling",
-                         r.pattern.inserted_by_hole_filling + (r.structure ? r.structure->inserted_by_hole_filling : 0)},
-                        {"type_changes", r.pattern.type_changes + (r.structure ? r.structure->type_changes : 0)},
-                        {"by_type", per_type}};
-  const double w_P = scene.pattern.w_P;
-  json phases = json::array();
-  phases.push_back(phase_json("pattern", r.pattern.iterations, r.pattern.evaluations, r.pattern.rounds,
-                              r.pattern.seconds, w_P * r.pattern.objective_start, w_P * r.pattern.objective_end,
-                              NAN, NAN, r.pattern.objective_start, r.pattern.objective_end, r.pattern.stop_reason));
-  phases.back()["objective"] = r.pattern.objective;
-  if (r.structure) {
-    const solvers::StructurePhaseResult& s = *r.structure;
-    phases.push_back(phase_json("structure", s.iterations, s.evaluations, s.rounds, s.seconds, s.J_start, s.J_end,
-                                s.S_start, s.S_end, s.P_start, s.P_end, s.stop_reason));
-    phases.back()["objective"] = s.objective;
-  }
-  report["phases"] = phases;
-  report["pattern"] = {{"objective", r.pattern.objective},
-                       {"exemplar", r.pattern.exemplar},
-                       {"unit", r.pattern.unit},
-                       {"epsilon", r.pattern.epsilon},
-                       {"field_symmetry", r.pattern.field_symmetry},
-                       {"w_P", w_P}};
-  json st = {{"objective", r.structure ? r.structure->objective : "none"},
-             {"w_S", scene.structure.w_S},
-             {"beta", r.structure ? number_or_null(r.structure->beta) : json(nullptr)},
-             {"beta_fraction", r.structure && std::isfinite(r.structure->beta)
-                                   ? json(r.structure->beta / r.uncut.summary.W_max)
-                                   : json(nullptr)},
-             {"W_max_uncut", r.uncut.summary.W_max},
-             {"W_max_pattern", r.pattern_design.summary.W_max},
-             {"W_max_final", r.final_design.summary.W_max},
-             {"compliance_uncut", r.uncut.summary.compliance},
-             {"compliance_pattern", r.pattern_design.summary.compliance},
-             {"compliance_final", r.final_design.summary.compliance},
-             {"material_fraction_pattern", r.pattern_design.material_fraction},
-             {"material_fraction_final", r.final_design.material_fraction},
-             {"max_displacement_pattern", r.pattern_design.summary.max_displacement},
-             {"max_displacement_final", r.final_design.summary.max_displacement},
-             {"overlaps", r.final_design.overlaps.pairs + r.final_design.overlaps.boundary},
-             {"units", {{"W", "J/m^2"}, {"compliance", "J"}, {"max_displacement", "m"}}}};
-  if (r.structure) {
-    st["beta_history"] = r.structure->beta_history;
-    st["optimisations"] = r.structure->optimisations;
-    if (r.structure->objective == "compliance") {
-      st["covered_area_target"] = r.structure->covered_area_target;
-      st["covered_area_final"] = r.structure->covered_area_final;
-      st["max_restoring_change"] = r.structure->max_restoring_change;
-    }
-  }
-  report["structure"] = st;
-  report["equilibrium"] = state_json(r.final_design);
-  report["designs"] = {{"uncut", state_json(r.uncut)},
-                       {"pattern", state_json(r.pattern_design)},
-                       {"final", state_json(r.final_design)}};
-  report["cut"] = {{"vertices", cut.vertices.rows()},
-                   {"triangles", cut.faces.rows()},
-                   {"area", cut.area},
-                   {"split_triangles", cut.split_faces},
-                   {"removed_triangles", cut.removed_faces}};
-  const auto& t = r.stage_times;
-  report["timings"]["stages"] = {{"fill_seconds", t.fill},         {"fills", t.fills},
-                                 {"equilibrium_seconds", t.equilibrium}, {"equilibria", t.equilibria},
-                                 {"newton_iterations", t.newton_iterations}, {"adjoint_seconds", t.adjoint},
-                                 {"adjoints", t.adjoints},         {"pullback_seconds", t.pullback}};
-  report["fabrication"] = files.fabrication_report();
-  report["notes"] = notes;
 
   // Everything is computed before anything is written: a failed run leaves no partial output.
-  ensure_directory(out);
-  write_stencils_json(out / "stencils.json", r.layout, ctx.surface(), ctx.shapes());
-  const Eigen::VectorXd& A = meshes.sim.face_areas();
-  (void)A;
-  write_ply_with_face_fields(out / "fields.ply", meshes.sim,
-                             {{"alpha", r.final_design.alpha}, {"W", r.final_design.summary.energy_density},
-                              {"W_pattern", r.pattern_design.summary.energy_density}});
-  write_obj(out / "cut.obj", cut.vertices, cut.faces);
-  files.write(out);
-  write_json_atomic(out / "report.json", report);
+  progress.stage("cut");
+  solvers::DesignRunInfo info{timings, device.report, notes};
+  solvers::DesignOutputs outputs = solvers::finish_design(scene, meshes, ctx, r, std::move(info), total);
+  solvers::add_design_files(outputs, scene, load_case, design_file_options(opts.outputs, &progress));
+  progress.finish();
+  solvers::write_design_outputs(out, outputs);
   for (const auto& n : notes) say(opts.run, "note: " + n);
-  std::vector<std::string> written = {"report.json", "stencils.json", "fields.ply", "cut.obj"};
-  for (const std::string& name : files.file_names()) written.push_back(name);
   say(opts.run,
       fmt::format("cutwork design: {}: {} stencils on {} triangles ({} simulated); W_max {:.4g} uncut, {:.4g} "
                   "pattern, {:.4g} final (J/m^2); material left {:.1f}%; wrote {}",
                   scene.name, r.layout.size(), meshes.base.num_faces(), meshes.sim.num_faces(),
                   r.uncut.summary.W_max, r.pattern_design.summary.W_max, r.final_design.summary.W_max,
-                  100 * r.final_design.material_fraction, files_written(out, written)));
+                  100 * r.final_design.material_fraction, files_written(out, solvers::design_output_names(outputs))));
 }
 
 }  // namespace

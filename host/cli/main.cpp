@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   cutwork::cli::add_simulate_command(app);
   cutwork::cli::add_verify_command(app);
   cutwork::cli::add_render_command(app);
+  cutwork::cli::add_sweep_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

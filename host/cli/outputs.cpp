@@ -48,35 +48,6 @@ DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* p
   return o;
 }
 
-RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
-                                   const Eigen::VectorXd& alpha) {
-  const solvers::ShellModel model(meshes.sim, scene.material, load_case);
-  solvers::EquilibriumSolver solver(model);
-  solver.solve(alpha);
-  return solver.displacements();
-}
-
-DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
-                                    const PatternContext& ctx, const solvers::DesignResult& r, const CutSurface& cut) {
-  DesignFileInputs in;
-  in.title = scene.name;
-  in.base = &meshes.base;
-  in.sim = &meshes.sim;
-  in.sim_fields.face = {{"alpha", r.final_design.alpha},
-                        {"W", r.final_design.summary.energy_density},
-                        {"W_pattern", r.pattern_design.summary.energy_density}};
-  in.sim_fields.vertex = {{"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha)}};
-  if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
-  const std::vector<StencilParams> params = solvers::layout_params(r.layout);
-  in.outlines = stencil_outlines(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), params);
-  in.outline_types.resize(Eigen::Index(params.size()));
-  for (size_t i = 0; i < params.size(); ++i) in.outline_types[Eigen::Index(i)] = params[i].type;
-  in.cut = &cut;
-  in.thickness = scene.material.thickness;
-  in.min_feature = scene.fabrication.min_feature;
-  return in;
-}
-
 DesignFileInputs simulation_file_inputs(const Scene& scene, const SceneMeshes& meshes, const Eigen::VectorXd& alpha,
                                         const Eigen::VectorXd& energy_density, const RowMatX3d& displacement,
                                         const CutSurface* cut) {

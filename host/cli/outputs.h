@@ -26,17 +26,6 @@ std::pair<int, int> parse_size(const std::string& text, const std::string& optio
 /// DesignFileOptions from the command line; stages are shown on `progress` when not null.
 DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* progress);
 
-/// Per-vertex displacement (#V×3, m) of the simulation mesh in equilibrium with fill ratios
-/// `alpha` (a fresh Newton solve; the design pipeline keeps only summaries).
-RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
-                                   const Eigen::VectorXd& alpha);
-
-/// The inputs of a design's files: final fields (α, W, W of the pattern design, displacement),
-/// the stencils' outlines, the cut surface, β, the thickness and the printable minimum.
-DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
-                                    const PatternContext& ctx, const solvers::DesignResult& result,
-                                    const CutSurface& cut);
-
 /// The inputs of a simulation's files: fields.vtu (α, W, displacement) and the pictures (the
 /// design picture shows `cut`, the design's stencils cut out, or the base surface when null).
 DesignFileInputs simulation_file_inputs(const Scene& scene, const SceneMeshes& meshes, const Eigen::VectorXd& alpha,

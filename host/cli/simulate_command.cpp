@@ -21,6 +21,7 @@
 #include "host/pattern/stencils_json.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
+#include "solvers/report/simulate_report.h"
 
 namespace cutwork::cli {
 
@@ -112,56 +113,10 @@ void run_simulate(const SimulateOptions& opts) {
         "positive definite after {} Newton iterations); lower the loads or stiffen the shell",
         stats.newton_iterations));
 
-  nlohmann::json report = base_report(scene, meshes, timings);
-  if (!device_report.is_null()) report["device"] = device_report;
-  report["equilibrium"] = {
-      {"max_displacement", summary.max_displacement},
-      {"max_displacement_vertex", summary.max_displacement_vertex},
-      {"strain_energy", summary.strain_energy},
-      {"compliance", summary.compliance},
-      {"W_max", summary.W_max},
-      {"W_max_face", summary.W_max_face},
-      {"newton_iterations", stats.newton_iterations},
-      {"residual", stats.residual},
-      {"converged", stats.converged},
-      {"stop", stats.stop},
-      {"stable", stats.stable},
-      {"load_norm", stats.load_norm},
-      {"factorizations", stats.factorizations},
-      {"shifted_factorizations", stats.shifted_factorizations},
-      {"units", {{"max_displacement", "m"}, {"strain_energy", "J"}, {"compliance", "J"}, {"W_max", "J/m^2"},
-                 {"load_norm", "N"}, {"residual", "force residual / load norm"}}}};
-  const solvers::ShellStiffness& k = model.stiffness();
-  report["material"] = {{"youngs_modulus", scene.material.youngs_modulus},
-                        {"poisson_ratio", scene.material.poisson_ratio},
-                        {"thickness", scene.material.thickness},
-                        {"density", scene.material.density},
-                        {"bending_stiffness", k.bending}};
-  int fixed = 0, clamped = 0;
-  for (int v = 0; v < model.num_vertices(); ++v) {
-    fixed += model.fixed()[v] ? 1 : 0;
-    clamped += model.load_case().clamped[v] ? 1 : 0;
-  }
-  const solvers::CholmodSolver& chol = solver.linear_solver();
-  report["solver"] = {{"dofs", model.num_dofs()},
-                      {"fixed_vertices", fixed},
-                      {"clamped_vertices", clamped},
-                      {"membranes", model.num_faces()},
-                      {"bending", scene.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
-                      {"bends", model.bends().size()},
-                      {"hinges", model.hinges().size()},
-                      {"clamp_hinges", model.clamp_hinges().size()},
-                      {"matrix_nonzeros", model.assembly().num_nonzeros()},
-                      {"factor_nonzeros", chol.factor_nonzeros()},
-                      {"ordering", chol.ordering()},
-                      {"supernodal", chol.supernodal()},
-                      {"assembly_colours", model.assembly().colours().size()}};
-  const Eigen::VectorXd& A = meshes.sim.face_areas();
-  report["fill_ratio"] = {{"source", opts.stencils.empty() ? std::string("uncut") : opts.stencils},
-                          {"stencils", stencil_count},
-                          {"min", alpha.minCoeff()},
-                          {"mean", alpha.mean()},
-                          {"material_fraction", alpha.dot(A) / A.sum()}};
+  const solvers::FillRatioSource fill{opts.stencils.empty() ? std::string("uncut") : opts.stencils, stencil_count,
+                                      &alpha};
+  const nlohmann::json report =
+      solvers::simulate_report(scene, meshes, model, solver, stats, summary, fill, timings, device_report);
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
   const RowMatX3d u = solver.displacements();

@@ -130,7 +130,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   // 1. The coarse fill-ratio run.
   v.alpha = design_fill_ratios(ctx, meshes, stencils, fill);
   {
-    const ShellModel coarse(meshes.sim, scene.material, load_case);
+    const ShellModel coarse(meshes.sim, scene.material, load_case, scene.mechanics);
     solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr);
     v.coarse.edge_length = meshes.sim.mean_edge_length();
   }
@@ -149,7 +149,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       const std::vector<bool> outer =
           boundary_vertices_on_boundary_of(mesh, meshes.base, 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm());
       const LoadCase lc = resolve_load_case(scene, mesh, &outer);
-      const ShellModel model(mesh, scene.material, lc);
+      const ShellModel model(mesh, scene.material, lc, scene.mechanics);
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }
     q.edge_length = L;

@@ -37,7 +37,7 @@ void expect_one_line_error(const test::CommandResult& r, std::initializer_list<s
 }
 
 TEST(Cli, HelpOnEverySubcommand) {
-  for (const char* sub : {"scenes", "show", "check", "design", "simulate", "render"}) {
+  for (const char* sub : {"scenes", "show", "check", "design", "simulate", "verify", "render", "sweep"}) {
     SCOPED_TRACE(sub);
     const auto r = run_cutwork(std::string(sub) + " --help");
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -45,7 +45,7 @@ TEST(Cli, HelpOnEverySubcommand) {
   }
   const auto r = run_cutwork("--help");
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* sub : {"scenes", "show", "check", "design", "simulate", "render"}) EXPECT_NE(r.out.find(sub), std::string::npos);
+  for (const char* sub : {"scenes", "show", "check", "design", "simulate", "verify", "render", "sweep"}) EXPECT_NE(r.out.find(sub), std::string::npos);
 }
 
 TEST(Cli, NoSubcommandOrUnknownOptionIsExitTwo) {

@@ -1,0 +1,92 @@
+// `cutwork sweep SWEEP.json --out DIR`: batch design-space exploration — every variant of a sweep
+// file as a full design, concurrently (TBB) or across MPI ranks; summary and Pareto outputs.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "host/cli/commands.h"
+#include "host/cli/sweep_mpi.h"
+#include "host/cli/sweep_runner.h"
+
+namespace cutwork::cli {
+
+namespace {
+
+void print_variants(const SweepPlan& plan) {
+  for (const SweepVariant& v : plan.variants) std::cout << v.id << "  " << describe_values(plan.spec, v.values) << "\n";
+}
+
+void report_done(const SweepPlan& plan, const SweepOptions& opts, size_t ran, const std::vector<VariantResult>& results) {
+  if (opts.quiet) return;
+  size_t failed = 0;
+  for (const VariantResult& r : results) failed += r.ok ? 0 : 1;
+  std::cerr << fmt::format("cutwork sweep: {}: {} variants ({} run now, {} done before), {} failed; wrote {}, "
+                           "pareto.csv, pareto.png\n",
+                           plan.spec.name, plan.variants.size(), ran, plan.variants.size() - ran, failed,
+                           (plan.out / "summary.csv").string());
+  for (const VariantResult& r : results)
+    if (!r.ok) std::cerr << fmt::format("  {} failed: {}\n", r.id, r.reason);
+}
+
+void run_sweep_command(const SweepOptions& opts) {
+  if (!opts.memory.empty()) (void)parse_memory_size(opts.memory, "--memory");
+  MpiSession mpi;  // a no-op unless built with MPI and started by mpirun with more than one rank
+  SweepPlan plan = mpi.guard([&] { return plan_sweep(opts); });
+  if (opts.list) {
+    if (mpi.rank() == 0) print_variants(plan);
+    return;
+  }
+  if (mpi.size() > 1) {
+    try {
+      const size_t ran = run_sweep_mpi(mpi, plan, opts);
+      if (mpi.rank() == 0) report_done(plan, opts, ran, plan.write_tables());
+    } catch (const std::exception& e) {
+      if (mpi.failed_collectively()) throw;  // every rank stopped alike: one line from rank 0
+      mpi.abort(e.what());
+    }
+    return;
+  }
+  plan.prepare_folder();
+  const size_t ran = run_sweep_local(plan, opts);
+  report_done(plan, opts, ran, plan.write_tables());
+}
+
+}  // namespace
+
+void add_sweep_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "sweep",
+      "Batch design-space exploration: run every variant of a sweep file (docs/SWEEP.md) as a full design into "
+      "DIR/variants/<id>/ and write DIR/summary.csv, DIR/pareto.csv and DIR/pareto.png. Variants run concurrently "
+      "(--jobs variants x max(1, threads/jobs) threads each); a run started again runs only what is missing; under "
+      "`mpirun -n N` rank 0 hands variants out to all ranks");
+  auto opts = std::make_shared<SweepOptions>();
+  cmd->add_option("SWEEP", opts->sweep, "sweep file (.json; format: docs/SWEEP.md)")->required();
+  cmd->add_option("--out,-o", opts->out, "output directory (created if needed)")->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "CPU threads of this process, shared by its variants (0: all)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  cmd->add_option("--jobs,-j", opts->jobs,
+                  "variants at a time (0: as many as there are variants to run, at most --threads); each gets "
+                  "max(1, threads/jobs) threads. Under MPI every rank runs one variant at a time")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  cmd->add_option("--memory", opts->memory,
+                  "peak memory budget of the concurrent variants, e.g. 8G (each reserves its estimated peak "
+                  "before its design starts; default: no budget)");
+  cmd->add_option("--iterations", opts->iterations,
+                  "L-BFGS-B iterations per phase for every variant (0: the sweep file's design.iterations, else "
+                  "the scene's)")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--device", opts->device, "where the clip and fill kernels run: cpu, vulkan or auto")
+      ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
+      ->capture_default_str();
+  cmd->add_flag("--list", opts->list, "print the variants (id and axis values) and stop; nothing is written");
+  cmd->add_flag("--quiet,-q", opts->quiet, "print nothing but errors");
+  cmd->callback([opts] { run_sweep_command(*opts); });
+}
+
+}  // namespace cutwork::cli

@@ -1,0 +1,228 @@
+#include "solvers/report/design_report.h"
+
+#include <cmath>
+#include <map>
+
+#include "host/core/atomic_file.h"
+#include "host/export/stencil_outlines.h"
+#include "host/io/json_io.h"
+#include "host/mesh/mesh_io.h"
+#include "host/pattern/stencils_json.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/report/run_report.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+using nlohmann::json;
+
+json phase_json(const std::string& name, int iterations, int evaluations, int rounds, double seconds,
+                double J0, double J1, double S0, double S1, double P0, double P1, const std::string& stop) {
+  return {{"name", name},          {"iterations", iterations}, {"evaluations", evaluations},
+          {"rounds", rounds},      {"seconds", seconds},       {"J_start", number_or_null(J0)},
+          {"J_end", number_or_null(J1)}, {"S_start", number_or_null(S0)}, {"S_end", number_or_null(S1)},
+          {"P_start", number_or_null(P0)}, {"P_end", number_or_null(P1)}, {"stop_reason", stop}};
+}
+
+json stencils_json(const PatternContext& ctx, const DesignResult& r) {
+  std::map<std::string, int> per_type;
+  for (const auto& s : r.layout) per_type[ctx.shapes()[s.type].name] += 1;
+  const StructurePhaseResult* s = r.structure ? &*r.structure : nullptr;
+  return {{"count", r.layout.size()},
+          {"initial", r.pattern.initial_count},
+          {"removed", r.pattern.removed + (s ? s->removed : 0)},
+          {"inserted_by_hole_filling", r.pattern.inserted_by_hole_filling + (s ? s->inserted_by_hole_filling : 0)},
+          {"type_changes", r.pattern.type_changes + (s ? s->type_changes : 0)},
+          {"by_type", per_type}};
+}
+
+json phases_json(const Scene& scene, const DesignResult& r) {
+  const double w_P = scene.pattern.w_P;
+  json phases = json::array();
+  const PatternPhaseResult& p = r.pattern;
+  phases.push_back(phase_json("pattern", p.iterations, p.evaluations, p.rounds, p.seconds, w_P * p.objective_start,
+                              w_P * p.objective_end, NAN, NAN, p.objective_start, p.objective_end, p.stop_reason));
+  phases.back()["objective"] = p.objective;
+  if (r.structure) {
+    const StructurePhaseResult& s = *r.structure;
+    phases.push_back(phase_json("structure", s.iterations, s.evaluations, s.rounds, s.seconds, s.J_start, s.J_end,
+                                s.S_start, s.S_end, s.P_start, s.P_end, s.stop_reason));
+    phases.back()["objective"] = s.objective;
+  }
+  return phases;
+}
+
+json structure_json(const Scene& scene, const DesignResult& r) {
+  const StructurePhaseResult* s = r.structure ? &*r.structure : nullptr;
+  json st = {{"objective", s ? s->objective : "none"},
+             {"w_S", scene.structure.w_S},
+             {"beta", s ? number_or_null(s->beta) : json(nullptr)},
+             {"beta_fraction", s && std::isfinite(s->beta) ? json(s->beta / r.uncut.summary.W_max) : json(nullptr)},
+             {"W_max_uncut", r.uncut.summary.W_max},
+             {"W_max_pattern", r.pattern_design.summary.W_max},
+             {"W_max_final", r.final_design.summary.W_max},
+             {"compliance_uncut", r.uncut.summary.compliance},
+             {"compliance_pattern", r.pattern_design.summary.compliance},
+             {"compliance_final", r.final_design.summary.compliance},
+             {"material_fraction_pattern", r.pattern_design.material_fraction},
+             {"material_fraction_final", r.final_design.material_fraction},
+             {"max_displacement_pattern", r.pattern_design.summary.max_displacement},
+             {"max_displacement_final", r.final_design.summary.max_displacement},
+             {"overlaps", r.final_design.overlaps.pairs + r.final_design.overlaps.boundary},
+             {"units", {{"W", "J/m^2"}, {"compliance", "J"}, {"max_displacement", "m"}}}};
+  if (s) {
+    st["beta_history"] = s->beta_history;
+    st["optimisations"] = s->optimisations;
+    if (s->objective == "compliance") {
+      st["covered_area_target"] = s->covered_area_target;
+      st["covered_area_final"] = s->covered_area_final;
+      st["max_restoring_change"] = s->max_restoring_change;
+    }
+  }
+  return st;
+}
+
+}  // namespace
+
+json design_state_json(const DesignState& d) {
+  return {{"stencils", d.stencils},
+          {"W_max", d.summary.W_max},
+          {"compliance", d.summary.compliance},
+          {"strain_energy", d.summary.strain_energy},
+          {"max_displacement", d.summary.max_displacement},
+          {"material_fraction", d.material_fraction},
+          {"newton_iterations", d.stats.newton_iterations},
+          {"residual", d.stats.residual},
+          {"converged", d.stats.converged},
+          {"stop", d.stats.stop},
+          {"stable", d.stats.stable}};
+}
+
+json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternContext& ctx, const DesignResult& r,
+                   const CutSurface& cut, const DesignRunInfo& info) {
+  json report = base_report(scene, meshes, info.timings);
+  if (!info.device.is_null()) report["device"] = info.device;
+  report["stencils"] = stencils_json(ctx, r);
+  report["phases"] = phases_json(scene, r);
+  report["pattern"] = {{"objective", r.pattern.objective},
+                       {"exemplar", r.pattern.exemplar},
+                       {"unit", r.pattern.unit},
+                       {"epsilon", r.pattern.epsilon},
+                       {"field_symmetry", r.pattern.field_symmetry},
+                       {"w_P", scene.pattern.w_P}};
+  report["structure"] = structure_json(scene, r);
+  report["equilibrium"] = design_state_json(r.final_design);
+  report["designs"] = {{"uncut", design_state_json(r.uncut)},
+                       {"pattern", design_state_json(r.pattern_design)},
+                       {"final", design_state_json(r.final_design)}};
+  report["cut"] = {{"vertices", cut.vertices.rows()},
+                   {"triangles", cut.faces.rows()},
+                   {"area", cut.area},
+                   {"split_triangles", cut.split_faces},
+                   {"removed_triangles", cut.removed_faces}};
+  const auto& t = r.stage_times;
+  report["timings"]["stages"] = {{"fill_seconds", t.fill},         {"fills", t.fills},
+                                 {"equilibrium_seconds", t.equilibrium}, {"equilibria", t.equilibria},
+                                 {"newton_iterations", t.newton_iterations}, {"adjoint_seconds", t.adjoint},
+                                 {"adjoints", t.adjoints},         {"pullback_seconds", t.pullback}};
+  report["notes"] = info.notes;
+  return report;
+}
+
+DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const PatternContext& ctx,
+                            const DesignResult& result, DesignRunInfo info, const Stopwatch& since_start) {
+  for (const auto& [name, seconds] : result.timings.entries()) info.timings.add(name, seconds);
+  DesignOutputs out;
+  out.meshes = &meshes;
+  out.ctx = &ctx;
+  out.result = &result;
+  Stopwatch sw;
+  const std::vector<StencilParams> final_params = layout_params(result.layout);
+  out.cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params);
+  info.timings.add("cut", sw.seconds());
+  info.timings.add("total", since_start.seconds());
+  out.report = design_report(scene, meshes, ctx, result, out.cut, info);
+  return out;
+}
+
+void write_design_outputs(const std::filesystem::path& dir, const DesignOutputs& o) {
+  const DesignResult& r = *o.result;
+  ensure_directory(dir);
+  write_stencils_json(dir / "stencils.json", r.layout, o.ctx->surface(), o.ctx->shapes());
+  write_ply_with_face_fields(dir / "fields.ply", o.meshes->sim,
+                             {{"alpha", r.final_design.alpha}, {"W", r.final_design.summary.energy_density},
+                              {"W_pattern", r.pattern_design.summary.energy_density}});
+  write_obj(dir / "cut.obj", o.cut.vertices, o.cut.faces);
+  if (o.files) o.files->write(dir);
+  write_json_atomic(dir / "report.json", o.report);
+}
+
+std::vector<std::string> design_output_names(const DesignOutputs& o) {
+  std::vector<std::string> names = {"stencils.json", "fields.ply", "cut.obj"};
+  if (o.files)
+    for (const std::string& n : o.files->file_names()) names.push_back(n);
+  names.push_back("report.json");
+  return names;
+}
+
+RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
+                                   const Eigen::VectorXd& alpha) {
+  const ShellModel model(meshes.sim, scene.material, load_case, scene.mechanics);
+  EquilibriumSolver solver(model);
+  solver.solve(alpha);
+  return solver.displacements();
+}
+
+DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
+                                    const PatternContext& ctx, const DesignResult& r, const CutSurface& cut) {
+  DesignFileInputs in;
+  in.title = scene.name;
+  in.base = &meshes.base;
+  in.sim = &meshes.sim;
+  in.sim_fields.face = {{"alpha", r.final_design.alpha},
+                        {"W", r.final_design.summary.energy_density},
+                        {"W_pattern", r.pattern_design.summary.energy_density}};
+  in.sim_fields.vertex = {{"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha)}};
+  if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
+  const std::vector<StencilParams> params = layout_params(r.layout);
+  in.outlines = stencil_outlines(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), params);
+  in.outline_types.resize(Eigen::Index(params.size()));
+  for (size_t i = 0; i < params.size(); ++i) in.outline_types[Eigen::Index(i)] = params[i].type;
+  in.cut = &cut;
+  in.thickness = scene.material.thickness;
+  in.min_feature = scene.fabrication.min_feature;
+  return in;
+}
+
+void add_design_files(DesignOutputs& outputs, const Scene& scene, const LoadCase& load_case,
+                      const DesignFileOptions& options) {
+  Stopwatch sw;
+  outputs.files = prepare_design_files(
+      design_file_inputs(scene, *outputs.meshes, load_case, *outputs.ctx, *outputs.result, outputs.cut), options);
+  outputs.report["fabrication"] = outputs.files->fabrication_report();
+  outputs.report["timings"]["design_files"] = sw.seconds();
+}
+
+json design_into_folder(const Scene& scene, const std::filesystem::path& dir, const DesignOptions& options,
+                        DesignRunInfo info, const std::function<void(const SceneMeshes&)>& on_meshes,
+                        const DesignFileOptions& file_options) {
+  Stopwatch total, sw;
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  info.timings.add("meshes", sw.seconds());
+  sw.restart();
+  const LoadCase load_case = resolve_load_case(scene, meshes.sim);
+  info.timings.add("load_case", sw.seconds());
+  if (on_meshes) on_meshes(meshes);
+  sw.restart();
+  PatternContext ctx(scene, meshes);
+  for (const auto& n : ctx.notes()) info.notes.push_back(n);
+  info.timings.add("pattern_context", sw.seconds());
+  const DesignResult result = run_design(scene, meshes, load_case, ctx, options);
+  DesignOutputs outputs = finish_design(scene, meshes, ctx, result, std::move(info), total);
+  add_design_files(outputs, scene, load_case, file_options);
+  write_design_outputs(dir, outputs);
+  return outputs.report;
+}
+
+}  // namespace cutwork::solvers

@@ -1,0 +1,29 @@
+#include "solvers/report/run_report.h"
+
+#include <cmath>
+
+namespace cutwork::solvers {
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json timings_json(const Timings& timings) {
+  nlohmann::json t = nlohmann::json::object();
+  for (const auto& [name, seconds] : timings.entries()) t[name] = seconds;
+  return t;
+}
+
+nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings) {
+  nlohmann::json r;
+  r["scene"] = scene.name;
+  r["scene_source"] = scene_origin(scene);
+  r["mesh"] = {{"vertices", meshes.base.num_vertices()},
+               {"triangles", meshes.base.num_faces()},
+               {"sim_vertices", meshes.sim.num_vertices()},
+               {"sim_triangles", meshes.sim.num_faces()},
+               {"sim_is_base", meshes.sim_is_base},
+               {"map_max_distance", meshes.map.max_distance}};
+  r["timings"] = timings_json(timings);
+  return r;
+}
+
+}  // namespace cutwork::solvers
