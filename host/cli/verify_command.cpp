@@ -21,6 +21,7 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "solvers/conforming/conforming_verification.h"
+#include "solvers/report/run_report.h"
 
 namespace cutwork::cli {
 
@@ -38,7 +39,7 @@ struct VerifyOptions {
   bool quiet = false;
 };
 
-json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+using solvers::number_or_null;
 
 json run_json(const solvers::RunQuantities& q) {
   return {{"vertices", q.vertices},
@@ -137,7 +138,7 @@ void run_verify(const VerifyOptions& opts) {
   timings.add("verify", sw.seconds());
   timings.add("total", total.seconds());
 
-  json report = base_report(loaded.scene, meshes, timings);
+  json report = solvers::base_report(loaded.scene, meshes, timings);
   report["design"] = dir.string();
   report["stencils"] = sf.stencils.size();
   report["options"] = {{"edge_length", co.edge_length}, {"levels", co.levels}};
