@@ -16,6 +16,7 @@
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
+#include "host/scene/work_estimate.h"
 #include "solvers/optimize/design_pipeline.h"
 
 namespace cutwork::cli {
@@ -61,6 +62,9 @@ void run_design_command(const DesignCommandOptions& opts) {
   const bool structure = opts.phases == "pattern,structure" || opts.phases == "all";
   Timings timings;
   Stopwatch total, sw;
+  // The output folder is locked from the start (a second run into it fails at once); what this
+  // run writes is staged there and published as one set at the end.
+  const std::unique_ptr<OutputSet> outputs = open_output_set(opts.run);
   LoadedScene loaded(opts.run, timings);
   const Scene& scene = loaded.scene;
   const SceneMeshes& meshes = loaded.meshes;
@@ -72,8 +76,8 @@ void run_design_command(const DesignCommandOptions& opts) {
     timings.add("total", total.seconds());
     json report = base_report(scene, meshes, timings);
     report["phases"] = json::array();
-    ensure_directory(out);
-    write_json_atomic(out / "report.json", report);
+    write_json_atomic(outputs->stage("report.json"), report);
+    outputs->publish();
     for (const auto& n : notes) say(opts.run, "note: " + n);
     say(opts.run, fmt::format("cutwork design: {}: {} triangles ({} simulated), no phases run; wrote {}",
                               scene.name, meshes.base.num_faces(), meshes.sim.num_faces(),
@@ -81,6 +85,7 @@ void run_design_command(const DesignCommandOptions& opts) {
     return;
   }
 
+  check_stencil_work(scene, meshes);  // refuse an unbounded pattern before building anything for it
   sw.restart();
   const DeviceChoice device = choose_device(opts.device);
   timings.add("device", sw.seconds());
@@ -184,16 +189,14 @@ void run_design_command(const DesignCommandOptions& opts) {
                                  {"adjoints", t.adjoints},         {"pullback_seconds", t.pullback}};
   report["notes"] = notes;
 
-  // Everything is computed before anything is written: a failed run leaves no partial output.
-  ensure_directory(out);
-  write_stencils_json(out / "stencils.json", r.layout, ctx.surface(), ctx.shapes());
-  const Eigen::VectorXd& A = meshes.sim.face_areas();
-  (void)A;
-  write_ply_with_face_fields(out / "fields.ply", meshes.sim,
+  // Staged, then published as one set: a failed run leaves the folder as it was.
+  write_stencils_json(outputs->stage("stencils.json"), r.layout, ctx.surface(), ctx.shapes());
+  write_ply_with_face_fields(outputs->stage("fields.ply"), meshes.sim,
                              {{"alpha", r.final_design.alpha}, {"W", r.final_design.summary.energy_density},
                               {"W_pattern", r.pattern_design.summary.energy_density}});
-  write_obj(out / "cut.obj", cut.vertices, cut.faces);
-  write_json_atomic(out / "report.json", report);
+  write_obj(outputs->stage("cut.obj"), cut.vertices, cut.faces);
+  write_json_atomic(outputs->stage("report.json"), report);
+  outputs->publish();
   for (const auto& n : notes) say(opts.run, "note: " + n);
   say(opts.run,
       fmt::format("cutwork design: {}: {} stencils on {} triangles ({} simulated); W_max {:.4g} uncut, {:.4g} "

@@ -34,7 +34,8 @@ struct SimulateOptions {
 Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshes, const std::string& file,
                                     const FillRatioOptions& fill, int* count) {
   const PatternContext ctx(scene, meshes);
-  const StencilsFile sf = read_stencils_json(file, ctx.shapes());
+  const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
+  const StencilsFile sf = read_stencils_json(file, ctx.shapes(), &bounds);
   *count = int(sf.stencils.size());
   if (sf.stencils.empty()) return Eigen::VectorXd::Ones(meshes.sim.num_faces());
   FillRatioOptions o = fill;
@@ -61,6 +62,7 @@ void run_simulate(const SimulateOptions& opts) {
   Timings timings;
   Stopwatch total;
   Stopwatch sw;
+  const std::unique_ptr<OutputSet> outputs = open_output_set(opts.run);  // locked from the start
   LoadedScene loaded(opts.run, timings);
   const Scene& scene = loaded.scene;
   const SceneMeshes& meshes = loaded.meshes;
@@ -164,13 +166,12 @@ void run_simulate(const SimulateOptions& opts) {
     face_u[f] = (un[F(f, 0)] + un[F(f, 1)] + un[F(f, 2)]) / 3.0;
   }
 
-  // Everything is computed before anything is written: a failed run leaves no partial output.
-  // report.json goes last: its presence says the run completed.
+  // Staged, then published as one set (report.json last): a failed run leaves the folder as it was.
   const std::filesystem::path out(opts.run.out);
-  ensure_directory(out);
-  write_ply_with_face_fields(out / "fields.ply", meshes.sim,
+  write_ply_with_face_fields(outputs->stage("fields.ply"), meshes.sim,
                              {{"alpha", alpha}, {"W", summary.energy_density}, {"displacement", face_u}});
-  write_json_atomic(out / "report.json", report);
+  write_json_atomic(outputs->stage("report.json"), report);
+  outputs->publish();
   for (const std::string& note : notes) say(opts.run, "note: " + note);
   say(opts.run, fmt::format("cutwork simulate: {}: {} triangles, {} DOFs; max displacement {:.4g} m, strain "
                             "energy {:.4g} J, compliance {:.4g} J, W_max {:.4g} J/m^2 ({} Newton iterations); "

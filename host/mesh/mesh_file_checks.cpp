@@ -359,7 +359,18 @@ void check_stl_structure(std::string_view content, const std::string& what) {
     if (content.size() == 84 + 50 * facets) return;
   }
   std::size_t start = content.find_first_not_of(" \t\r\n");
-  if (start == std::string_view::npos || content.substr(start, 5) != "solid") return;  // binary
+  if (start == std::string_view::npos || content.substr(start, 5) != "solid") {
+    // Neither: say why for each (assimp says only "Failed to determine STL storage representation").
+    if (content.size() < 84)
+      throw InputError(fmt::format("{}: is not an STL file: an ASCII STL starts with 'solid', and {} bytes are too "
+                                   "few for a binary STL (80-byte header, facet count, 50 bytes per facet)",
+                                   what, content.size()));
+    std::uint64_t facets = 0;
+    for (int b = 3; b >= 0; --b) facets = (facets << 8) | std::uint8_t(content[80 + b]);
+    throw InputError(fmt::format("{}: is not an STL file: an ASCII STL starts with 'solid', and a binary STL "
+                                 "declaring {} facets would be {} bytes long, not {}",
+                                 what, facets, 84 + 50 * facets, content.size()));
+  }
   std::istringstream in{std::string(content.substr(start))};
   long long facet = -1, corners = 0;
   bool in_loop = false;

@@ -1,0 +1,40 @@
+#include "host/scene/work_estimate.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+#include "host/core/work_limits.h"
+#include "host/field/sizing_field.h"
+
+namespace cutwork {
+
+WorkLimits& work_limits() {
+  static WorkLimits limits;
+  return limits;
+}
+
+double estimate_stencil_count(const PatternSettings& settings, const SurfaceMesh& base) {
+  if (settings.count > 0) return settings.count;
+  if (!(settings.scale > 0)) return 300;
+  // The sizing field shrinks stencils where it is below 1 (a sizing file is read here too).
+  const SizingField sizing = SizingField::from_settings(settings, base);
+  const double area = base.face_areas().sum();
+  const double spacing = (1 + settings.s) * settings.scale;
+  return 0.547 * area * sizing.mean_power(base, -2.0) / (M_PI * spacing * spacing);
+}
+
+void check_stencil_work(const Scene& scene, const SceneMeshes& meshes) {
+  const double estimate = estimate_stencil_count(scene.pattern, meshes.base);
+  const int limit = work_limits().max_stencils;
+  if (estimate <= limit) return;
+  const std::string what = scene.pattern.count > 0
+                               ? fmt::format("/pattern/count: {} stencils", scene.pattern.count)
+                               : fmt::format("/pattern/scale: {:g} m gives about {:.3g} stencils on {:.4g} m^2",
+                                             scene.pattern.scale, estimate, meshes.base.face_areas().sum());
+  throw InputError(fmt::format("{}: {}, more than the limit of {} (raise it with --max-stencils if this is meant)",
+                               scene_origin(scene), what, limit));
+}
+
+}  // namespace cutwork
