@@ -29,10 +29,14 @@ void check_stencil_work(const Scene& scene, const SceneMeshes& meshes) {
   const double estimate = estimate_stencil_count(scene.pattern, meshes.base);
   const int limit = work_limits().max_stencils;
   if (estimate <= limit) return;
-  const std::string what = scene.pattern.count > 0
-                               ? fmt::format("/pattern/count: {} stencils", scene.pattern.count)
-                               : fmt::format("/pattern/scale: {:g} m gives about {:.3g} stencils on {:.4g} m^2",
-                                             scene.pattern.scale, estimate, meshes.base.face_areas().sum());
+  const double area = meshes.base.face_areas().sum();
+  const std::string what =
+      scene.pattern.count > 0
+          ? fmt::format("/pattern/count: {} stencils", scene.pattern.count)
+          : scene.pattern.scale > 0
+                ? fmt::format("/pattern/scale: {:g} m gives about {:.3g} stencils on {:.4g} m^2", scene.pattern.scale,
+                              estimate, area)
+                : fmt::format("/pattern: the automatic scale gives about {:.0f} stencils", estimate);
   throw InputError(fmt::format("{}: {}, more than the limit of {} (raise it with --max-stencils if this is meant)",
                                scene_origin(scene), what, limit));
 }
