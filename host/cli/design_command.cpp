@@ -3,11 +3,15 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 
+#include "host/cli/checkpoint.h"
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
 #include "host/core/atomic_file.h"
@@ -30,7 +34,66 @@ struct DesignCommandOptions {
   std::string phases = "pattern,structure";
   std::string device = "auto";
   int iterations = 0;
+  bool resume = false;
 };
+
+// SIGINT / SIGTERM during a design: remembered here, acted on at the next progress report (the
+// optimiser's iterations), where the run can stop cleanly. A second signal ends it at once.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void on_stop_signal(int signal) {
+  g_stop_signal = signal;
+  std::signal(signal, SIG_DFL);
+}
+
+/// Installs the handlers for the lifetime of a run.
+class StopSignals {
+ public:
+  StopSignals() : m_int(std::signal(SIGINT, on_stop_signal)), m_term(std::signal(SIGTERM, on_stop_signal)) {}
+  ~StopSignals() {
+    std::signal(SIGINT, m_int);
+    std::signal(SIGTERM, m_term);
+  }
+
+ private:
+  void (*m_int)(int);
+  void (*m_term)(int);
+};
+
+/// The checkpoint of a run (host/cli/checkpoint.h): removed when the run ends, unless it was
+/// interrupted (then it is what --resume continues from).
+struct CheckpointFile {
+  std::filesystem::path path;
+  bool written = false;
+  bool keep = false;
+  ~CheckpointFile() {
+    std::error_code ignore;
+    if (!keep) std::filesystem::remove(path, ignore);
+  }
+  [[noreturn]] void interrupted(const std::string& out) {
+    const int signal = g_stop_signal;
+    const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+    keep = written;
+    if (written)
+      throw Interrupted(fmt::format("interrupted by {}: the pattern phase is checkpointed in {}; continue with the "
+                                    "same command and --resume",
+                                    name, path.string()),
+                        signal);
+    throw Interrupted(fmt::format("interrupted by {} before the first checkpoint (the end of the pattern phase): "
+                                  "nothing written into {}",
+                                  name, out),
+                      signal);
+  }
+};
+
+/// Test hook (tests/cli/checkpoint_test.cpp): CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=KILL or TERM
+/// sends that signal to the run itself right after its checkpoint is written — a kill or a stop
+/// request at a known moment.
+void raise_test_signal_after_checkpoint() {
+  const char* hook = std::getenv("CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT");
+  if (!hook) return;
+  if (std::string(hook) == "KILL") std::raise(SIGKILL);
+  if (std::string(hook) == "TERM") std::raise(SIGTERM);
+}
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -100,7 +163,31 @@ void run_design_command(const DesignCommandOptions& opts) {
   dopt.structure = structure;
   dopt.fill = device.fill;
   if (opts.iterations > 0) dopt.pattern_iterations = dopt.structure_iterations = opts.iterations;
+  // Checkpoint at the end of the pattern phase; --resume continues from it (host/cli/checkpoint.h).
+  const StopSignals stop_signals;
+  CheckpointFile checkpoint{checkpoint_path(out)};
+  const nlohmann::json fingerprint = checkpoint_fingerprint(scene, opts.iterations);
+  std::optional<PatternPhaseResult> resumed;
+  if (opts.resume) resumed = read_pattern_checkpoint(out, fingerprint);
+  if (resumed) {
+    checkpoint.written = true;
+    dopt.resume_pattern = &*resumed;
+    notes.push_back("resumed from the checkpoint of the pattern phase in " + checkpoint.path.string());
+  } else if (opts.resume) {
+    notes.push_back("--resume: no checkpoint in " + out.string() + ", so the design started from the beginning");
+  }
+  dopt.pattern_done = [&](const PatternPhaseResult& pattern) {
+    if (!structure) return;  // nothing would follow it
+    write_pattern_checkpoint(out, fingerprint, pattern);
+    checkpoint.written = true;
+    raise_test_signal_after_checkpoint();
+    if (g_stop_signal) checkpoint.interrupted(opts.run.out);
+  };
   dopt.progress = [&](const std::string& phase, const PatternProgress& p) {
+    if (g_stop_signal) {
+      progress.finish();
+      checkpoint.interrupted(opts.run.out);
+    }
     progress.update(phase, p);
     return true;
   };
@@ -227,6 +314,10 @@ void add_design_command(CLI::App& app) {
                   "structure.max_iterations (0: the scene's)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
+  cmd->add_flag("--resume", opts->resume,
+                 "continue from the checkpoint a killed or interrupted run left in the output directory (written "
+                 "when the pattern phase ends; SIGINT/SIGTERM stop a run cleanly, keeping it): the same design as "
+                 "an uninterrupted run");
   cmd->callback([opts] { run_design_command(*opts); });
 }
 

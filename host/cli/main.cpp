@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "cutwork: " << e.what() << " (see cutwork --help)\n";
     return 2;
+  } catch (const cutwork::Interrupted& e) {
+    std::cerr << "cutwork: " << e.what() << "\n";
+    return 128 + e.signal();
   } catch (const cutwork::Error& e) {
     // One line, of bounded length, whatever a message quotes from the input.
     std::cerr << "cutwork: " << cutwork::excerpt(e.what(), 2000) << "\n";

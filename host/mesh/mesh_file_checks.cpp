@@ -362,12 +362,12 @@ void check_stl_structure(std::string_view content, const std::string& what) {
   if (start == std::string_view::npos || content.substr(start, 5) != "solid") {
     // Neither: say why for each (assimp says only "Failed to determine STL storage representation").
     if (content.size() < 84)
-      throw InputError(fmt::format("{}: is not an STL file: an ASCII STL starts with 'solid', and {} bytes are too "
+      throw InputError(fmt::format("{}: cannot be parsed: not an STL file: an ASCII STL starts with 'solid', and {} bytes are too "
                                    "few for a binary STL (80-byte header, facet count, 50 bytes per facet)",
                                    what, content.size()));
     std::uint64_t facets = 0;
     for (int b = 3; b >= 0; --b) facets = (facets << 8) | std::uint8_t(content[80 + b]);
-    throw InputError(fmt::format("{}: is not an STL file: an ASCII STL starts with 'solid', and a binary STL "
+    throw InputError(fmt::format("{}: cannot be parsed: not an STL file: an ASCII STL starts with 'solid', and a binary STL "
                                  "declaring {} facets would be {} bytes long, not {}",
                                  what, facets, 84 + 50 * facets, content.size()));
   }

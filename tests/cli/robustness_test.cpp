@@ -138,7 +138,7 @@ TEST(CliRobustness, CheckRejectsWhatDesignRejects) {
       {"huge_count.json", {"/pattern/count", "10000000", "--max-stencils"}},
       {"sim_edge_length.json", {"/mesh", "sim_edge_length must be"}},
       {"missing_sizing_file.json", {"missing_sizing.txt", "no such file"}},
-      {"not_an_stl.stl", {"not_an_stl.stl", "is not an STL file", "facets"}},
+      {"not_an_stl.stl", {"not_an_stl.stl", "cannot be parsed: not an STL file", "facets"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);
