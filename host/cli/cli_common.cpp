@@ -6,7 +6,9 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -44,6 +46,11 @@ void add_limit_options(CLI::App& cmd) {
                  "refuse a pattern whose estimated stencil count (from pattern.count, or pattern.scale and the "
                  "surface's area) is larger than this")
       ->check(CLI::Range(1, 1'000'000'000))
+      ->capture_default_str();
+  cmd.add_option("--max-factor-gb", limits.max_factor_gb,
+                 "refuse a simulation mesh whose stiffness factor would take more memory than this (GB, from "
+                 "CHOLMOD's symbolic analysis before any factorisation)")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
 }
 
@@ -122,14 +129,16 @@ DeviceChoice choose_device(const std::string& device) {
 }
 
 ProgressLine::ProgressLine(const RunOptions& opts)
-    : m_active(!opts.quiet && isatty(fileno(stdout))), m_log(!opts.quiet && !m_active) {}
+    : m_active(!opts.quiet && isatty(fileno(stdout))), m_log(!opts.quiet && !m_active) {
+  // CUTWORK_PROGRESS_SECONDS changes the interval of the plain lines (tests use 0: every update).
+  if (const char* s = std::getenv("CUTWORK_PROGRESS_SECONDS")) m_log_interval = std::max(0.0, std::atof(s));
+}
 
 ProgressLine::~ProgressLine() { finish(); }
 
 void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
-  constexpr double log_interval = 5.0;  // seconds between lines when not on a terminal
   if (m_log) {
-    if (m_since_draw.seconds() < log_interval) return;
+    if (m_since_draw.seconds() < m_log_interval) return;
   } else if (!m_active || (m_dirty && m_since_draw.seconds() < 0.1)) {
     return;
   }

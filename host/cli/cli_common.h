@@ -32,7 +32,7 @@ struct RunOptions {
 /// Adds SCENE, --out, --threads, --quiet, --wait to `cmd`, storing into `opts`.
 void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default_scene);
 
-/// Adds --max-faces and --max-stencils (the limits of host/core/work_limits.h) to `cmd`.
+/// Adds --max-faces, --max-stencils and --max-factor-gb (host/core/work_limits.h) to `cmd`.
 void add_limit_options(CLI::App& cmd);
 
 /// Locks the output folder `--out` and stages the run's outputs there (see host/core/output_set.h);
@@ -77,7 +77,8 @@ DeviceChoice choose_device(const std::string& device);
 /// The live progress display of a pipeline: one line on the terminal, rewritten in place
 /// (phase, iteration, objective, gradient norm, W_max, elapsed), at most ten updates a second.
 /// When stdout is not a terminal (a batch job, a log file), the same line goes to stderr as a
-/// plain line once a run has taken 5 s, then at most every 5 s. Silent with --quiet.
+/// plain line once a run has taken 5 s, then at most every 5 s (CUTWORK_PROGRESS_SECONDS sets
+/// the interval). Silent with --quiet.
 class ProgressLine {
  public:
   explicit ProgressLine(const RunOptions& opts);
@@ -89,6 +90,7 @@ class ProgressLine {
  private:
   bool m_active = false;
   bool m_log = false;  ///< not a terminal: plain lines on stderr
+  double m_log_interval = 5.0;  ///< seconds between plain lines
   bool m_dirty = false;
   Stopwatch m_clock, m_since_draw;
 };

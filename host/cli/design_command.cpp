@@ -21,7 +21,9 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/optimize/design_pipeline.h"
+#include "solvers/shell/shell_model.h"
 
 namespace cutwork::cli {
 
@@ -149,6 +151,11 @@ void run_design_command(const DesignCommandOptions& opts) {
   }
 
   check_stencil_work(scene, meshes);  // refuse an unbounded pattern before building anything for it
+  {
+    // The factor's size from CHOLMOD's symbolic analysis, before the design factorises anything.
+    const solvers::ShellModel model(meshes.sim, scene.material, load_case);
+    check_factor_work(scene, meshes, solvers::EquilibriumSolver(model).linear_solver().factor_nonzeros());
+  }
   sw.restart();
   const DeviceChoice device = choose_device(opts.device);
   timings.add("device", sw.seconds());

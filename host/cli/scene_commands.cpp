@@ -11,6 +11,7 @@
 #include "host/scene/work_estimate.h"
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/shell/shell_model.h"
 
 namespace cutwork::cli {
@@ -85,6 +86,8 @@ void add_check_command(CLI::App& app) {
     // model), the work the pattern asks for, the exemplar against the stencils, the sizing file
     // and the strokes (the pattern context), and a design's stencils.
     const solvers::ShellModel model(meshes.sim, scene.material, lc);
+    const solvers::EquilibriumSolver analysis(model);  // CHOLMOD's symbolic analysis: the factor's size
+    check_factor_work(scene, meshes, analysis.linear_solver().factor_nonzeros());
     check_stencil_work(scene, meshes);
     const PatternContext ctx(scene, meshes);
     size_t stencil_count = 0;
@@ -122,6 +125,9 @@ void add_check_command(CLI::App& app) {
     const Vec3 total = lc.forces.colwise().sum().transpose();
     std::cout << fmt::format("  total of the fixed loads: [{:.4g}, {:.4g}, {:.4g}] N\n", total[0], total[1],
                              total[2]);
+    std::cout << fmt::format("simulation: {} DOFs, stiffness factor {} nonzeros (about {:.3g} GB)\n", model.num_dofs(),
+                             analysis.linear_solver().factor_nonzeros(),
+                             factor_bytes(analysis.linear_solver().factor_nonzeros()) / 1e9);
     std::cout << fmt::format("stencil shapes: {}; pattern: about {:.0f} stencils (estimated)\n", scene.shapes.size(),
                              estimate_stencil_count(scene.pattern, meshes.base));
     if (!stencils->empty()) std::cout << fmt::format("stencils file: {} stencils\n", stencil_count);

@@ -16,6 +16,7 @@
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
+#include "host/scene/work_estimate.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
 
@@ -77,6 +78,7 @@ void run_simulate(const SimulateOptions& opts) {
   settings.log = [&notes](const std::string& line) { notes.push_back(line); };
   solvers::EquilibriumSolver solver(model, settings);
   timings.add("analysis", solver.analysis_seconds());
+  check_factor_work(scene, meshes, solver.linear_solver().factor_nonzeros());  // before any factorisation
 
   // The uncut shell (every triangle full), or a design's stencils.
   Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());

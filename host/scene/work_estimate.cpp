@@ -42,3 +42,18 @@ void check_stencil_work(const Scene& scene, const SceneMeshes& meshes) {
 }
 
 }  // namespace cutwork
+
+namespace cutwork {
+
+double factor_bytes(long factor_nonzeros) { return double(factor_nonzeros) * (sizeof(double) + sizeof(int)); }
+
+void check_factor_work(const Scene& scene, const SceneMeshes& meshes, long factor_nonzeros) {
+  const double gb = factor_bytes(factor_nonzeros) / 1e9, limit = work_limits().max_factor_gb;
+  if (gb <= limit) return;
+  throw InputError(fmt::format("{}: the stiffness factor of the simulation mesh ({} faces) would take about {:.3g} GB "
+                               "({} nonzeros, from CHOLMOD's analysis), more than the limit of {:g} GB (raise it with "
+                               "--max-factor-gb, or coarsen the simulation mesh: /mesh/sim_edge_length)",
+                               scene_origin(scene), meshes.sim.num_faces(), gb, factor_nonzeros, limit));
+}
+
+}  // namespace cutwork

@@ -15,4 +15,13 @@ double estimate_stencil_count(const PatternSettings& settings, const SurfaceMesh
 /// (--max-stencils)") when the estimate exceeds work_limits().max_stencils.
 void check_stencil_work(const Scene& scene, const SceneMeshes& meshes);
 
+/// Memory (bytes) of a Cholesky factor with `factor_nonzeros` entries: a double and a row index
+/// each (CHOLMOD's supernodal factor stores about that).
+double factor_bytes(long factor_nonzeros);
+
+/// Throws InputError("<origin>: the stiffness factor of the simulation mesh (F faces) would take
+/// about X GB ..., more than the limit of Y GB (--max-factor-gb)") when factor_bytes exceeds
+/// work_limits().max_factor_gb; `factor_nonzeros` comes from CHOLMOD's symbolic analysis.
+void check_factor_work(const Scene& scene, const SceneMeshes& meshes, long factor_nonzeros);
+
 }  // namespace cutwork

@@ -220,5 +220,37 @@ TEST(CliRobustness, LimitsAreSettings) {
   EXPECT_NE(r.out.find("about 300 stencils (estimated)"), std::string::npos) << r.out;
 }
 
+TEST(CliRobustness, ProgressLinesOnStderrWithoutATerminal) {
+  const fs::path out = test::temp_dir("robust_progress");
+  // Every update as a line (the interval is 5 s by default; short runs print none).
+  const auto r = test::run_shell("CUTWORK_PROGRESS_SECONDS=0 timeout -s KILL 60 " + test::cutwork_binary().string() +
+                                 " design plate --iterations 3 --device cpu --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_NE(r.err.find("cutwork: pattern   initialised:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cutwork: structure round"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << "plain lines, no terminal control";
+  const auto quiet = cutwork("design plate --iterations 3 --device cpu --quiet --out " + out.string());
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+  const auto normal = cutwork("design plate --iterations 3 --device cpu --out " + out.string());
+  EXPECT_EQ(normal.err.find("cutwork: pattern"), std::string::npos) << "a run shorter than 5 s prints none";
+  fs::remove_all(out);
+}
+
+TEST(CliRobustness, TheFactorSizeIsEstimatedBeforeFactorising) {
+  const auto r = cutwork("check plate");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("stiffness factor"), std::string::npos) << r.out;
+  const fs::path out = test::temp_dir("robust_factor") / "out";
+  for (const std::string& cmd : {std::string("check plate"), "simulate plate --out " + out.string(),
+                                "design plate --iterations 2 --device cpu --out " + out.string()}) {
+    SCOPED_TRACE(cmd);
+    expect_one_line_error(cutwork(cmd + " --max-factor-gb 1e-6"),
+                          {"stiffness factor", "more than the limit of 1e-06 GB", "--max-factor-gb"});
+    EXPECT_FALSE(fs::exists(out));
+  }
+  fs::remove_all(out.parent_path());
+}
+
 }  // namespace
 }  // namespace cutwork
