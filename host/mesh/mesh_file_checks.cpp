@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "host/core/error.h"
+#include "host/core/input_file.h"
 
 namespace cutwork {
 
@@ -167,7 +169,11 @@ bool is_number(const std::string& token) {
 
 void check_ply_structure(std::string_view content, const std::string& what) {
   auto fail = [&](const std::string& problem) { throw InputError(what + ": " + problem); };
-  if (content.substr(0, 3) != "ply" && content.substr(0, 3) != "PLY") return;
+  // assimp takes the magic number in any case ("plY"), and then loops forever on a header it
+  // cannot parse: every such file is checked here.
+  std::string magic(content.substr(0, 3));
+  for (char& c : magic) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (magic != "ply") return;
 
   // Header: lines up to "end_header". Parsed strictly — assimp 5.2 loops forever on some
   // malformed headers (e.g. a bare "property" line), so nothing questionable may reach it.
@@ -350,6 +356,67 @@ void check_off_structure(std::string_view content, const std::string& what) {
                      *nv, *nf));
 }
 
+/// An ASCII STL, strictly: "solid NAME" on the first line, then facets
+///   facet normal N N N / outer loop / vertex X Y Z (three) / endloop / endfacet
+/// and "endsolid [NAME]" (further solids may follow). assimp reports a bad number by quoting the
+/// rest of the file, and leaks the mesh it was building when it meets anything unexpected, so
+/// nothing malformed may reach it.
+static void check_ascii_stl_grammar(std::string_view text, const std::string& what) {
+  std::istringstream in{std::string(text)};
+  long long facet = -1;
+  auto fail = [&](const std::string& problem) {
+    throw InputError(fmt::format("{}: cannot be parsed: ASCII STL{}: {}", what,
+                                 facet >= 0 ? fmt::format(" facet {}", facet) : std::string(), problem));
+  };
+  auto next = [&](std::string& token) { return bool(in >> token); };
+  auto expect = [&](const char* word) {
+    std::string token;
+    if (!next(token)) fail(fmt::format("the file ends where '{}' was expected", word));
+    if (token != word) fail(fmt::format("'{}' where '{}' was expected", excerpt(token, 40), word));
+  };
+  auto numbers = [&](const std::string& of) {
+    for (int k = 0; k < 3; ++k) {
+      std::string token;
+      if (!next(token)) fail(fmt::format("the file ends inside the {}", of));
+      char* end = nullptr;
+      std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size())
+        fail(fmt::format("{} coordinate {} '{}' is not a number", of, k, excerpt(token, 40)));
+    }
+  };
+  auto skip_line = [&] {
+    std::string rest;
+    std::getline(in, rest);
+  };
+  std::string token;
+  next(token);  // "solid" (checked by the caller); its name is the rest of the line
+  skip_line();
+  while (next(token)) {
+    if (token == "endsolid") {
+      skip_line();
+      if (!next(token)) break;
+      if (token != "solid") fail(fmt::format("'{}' after 'endsolid' (expected another 'solid' or the end)",
+                                             excerpt(token, 40)));
+      skip_line();
+      continue;
+    }
+    if (token != "facet") fail(fmt::format("'{}' where 'facet' or 'endsolid' was expected", excerpt(token, 40)));
+    ++facet;
+    expect("normal");
+    numbers("normal");
+    expect("outer");
+    expect("loop");
+    int corners = 0;
+    bool more = next(token);
+    for (; more && token == "vertex"; ++corners, more = next(token)) numbers(fmt::format("vertex {}", corners));
+    if (!more) fail("the file ends inside the facet's loop");
+    if (token != "endloop") fail(fmt::format("'{}' where 'vertex' or 'endloop' was expected", excerpt(token, 40)));
+    if (corners != 3)
+      throw InputError(fmt::format("{}: facet {} has {} vertices (STL facets are triangles)", what, facet, corners));
+    expect("endfacet");
+  }
+}
+
 void check_stl_structure(std::string_view content, const std::string& what) {
   // A binary STL is 80 header bytes, a uint32 facet count and 50 bytes per facet; its header
   // may start with "solid" too, so the size decides (as in assimp).
@@ -371,24 +438,7 @@ void check_stl_structure(std::string_view content, const std::string& what) {
                                  "declaring {} facets would be {} bytes long, not {}",
                                  what, facets, 84 + 50 * facets, content.size()));
   }
-  std::istringstream in{std::string(content.substr(start))};
-  long long facet = -1, corners = 0;
-  bool in_loop = false;
-  for (std::string token; in >> token;) {
-    if (token == "facet") {
-      ++facet;
-    } else if (token == "loop") {
-      in_loop = true;
-      corners = 0;
-    } else if (token == "vertex" && in_loop) {
-      ++corners;
-    } else if (token == "endloop") {
-      in_loop = false;
-      if (corners != 3)
-        throw InputError(fmt::format("{}: facet {} has {} vertices (STL facets are triangles)", what,
-                                     facet, corners));
-    }
-  }
+  check_ascii_stl_grammar(content.substr(start), what);
 }
 
 }  // namespace cutwork
