@@ -21,7 +21,7 @@ fs::path scratch_file(const std::string& name, std::string_view data) {
 }
 
 void use_small_limits() {
-  work_limits().max_faces = 3'000;
+  work_limits().max_faces = 500;
   work_limits().max_stencils = 2'000;
 }
 
