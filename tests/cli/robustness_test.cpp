@@ -209,6 +209,8 @@ TEST(CliRobustness, HostileFilesAreOneBoundedLine) {
 TEST(CliRobustness, LimitsAreSettings) {
   // The limits name their setting, and raising it lets the request through to the next check.
   expect_one_line_error(cutwork("check plate --max-faces 1000"), {"max_faces = 1000"});
+  expect_one_line_error(cutwork("check " + (test::data_dir() / "meshes" / "tetrahedron.obj").string() + " --max-faces 3"),
+                        {"tetrahedron.obj", "has 4 faces, more than the limit of 3", "--max-faces"});
   expect_one_line_error(cutwork("check plate --max-stencils 10"), {"about 300 stencils", "limit of 10"});
   const fs::path out = test::temp_dir("robust_limits") / "out";
   expect_one_line_error(cutwork("design " + mutant("huge_scale.json").string() + " --max-stencils 10 --out " + out.string()),
