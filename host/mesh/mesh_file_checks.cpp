@@ -286,7 +286,8 @@ void check_off_structure(std::string_view content, const std::string& what) {
     std::istringstream in{std::string(content)};
     for (std::string line; std::getline(in, line);) {
       if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-      if (line.find_first_not_of(" \t\r\n") != std::string::npos) lines.push_back(line);
+      // (blank by the tokenizer's own notion of space: a line of form feeds or vertical tabs is blank)
+      if (!tokens_of(line).empty()) lines.push_back(line);
     }
   }
   if (lines.empty()) fail("no OFF header (the file holds only blank or comment lines)");
@@ -368,7 +369,15 @@ static void check_ascii_stl_grammar(std::string_view text, const std::string& wh
     throw InputError(fmt::format("{}: cannot be parsed: ASCII STL{}: {}", what,
                                  facet >= 0 ? fmt::format(" facet {}", facet) : std::string(), problem));
   };
-  auto next = [&](std::string& token) { return bool(in >> token); };
+  std::vector<std::string> pending;  // tokens of a "solid" line after its name, in reverse order
+  bool from_pending = false;  // the last token came from `pending` (its line is already read)
+  auto next = [&](std::string& token) {
+    from_pending = !pending.empty();
+    if (!from_pending) return bool(in >> token);
+    token = std::move(pending.back());
+    pending.pop_back();
+    return true;
+  };
   auto expect = [&](const char* word) {
     std::string token;
     if (!next(token)) fail(fmt::format("the file ends where '{}' was expected", word));
@@ -385,19 +394,31 @@ static void check_ascii_stl_grammar(std::string_view text, const std::string& wh
     }
   };
   auto skip_line = [&] {
+    if (from_pending) {
+      pending.clear();
+      return;
+    }
     std::string rest;
     std::getline(in, rest);
   };
+  // "solid [NAME]": as in assimp, the name is one token and the rest of its line is body.
+  auto solid_line = [&] {
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> words = tokens_of(line);
+    if (!words.empty()) words.erase(words.begin());  // the name
+    pending.assign(words.rbegin(), words.rend());
+  };
   std::string token;
-  next(token);  // "solid" (checked by the caller); its name is the rest of the line
-  skip_line();
+  next(token);  // "solid" (checked by the caller)
+  solid_line();
   while (next(token)) {
     if (token == "endsolid") {
       skip_line();
       if (!next(token)) break;
       if (token != "solid") fail(fmt::format("'{}' after 'endsolid' (expected another 'solid' or the end)",
                                              excerpt(token, 40)));
-      skip_line();
+      solid_line();
       continue;
     }
     if (token != "facet") fail(fmt::format("'{}' where 'facet' or 'endsolid' was expected", excerpt(token, 40)));
