@@ -343,6 +343,13 @@ void check_off_structure(std::string_view content, const std::string& what) {
     if (*n > 9) fail(fmt::format("face {} has {} vertices; OFF faces with more than 9 are not supported", f, *n));
     if ((long long)(t.size()) < 1 + *n)
       fail(fmt::format("face {} lists fewer than its {} vertex indices", f, *n));
+    for (std::size_t k = std::size_t(1 + *n); k < t.size(); ++k) {  // a colour: numbers only (assimp crashes on bytes)
+      char* end = nullptr;
+      std::strtod(t[k].c_str(), &end);
+      if (end != t[k].c_str() + t[k].size())
+        fail(fmt::format("face {}: '{}' after the vertex indices is not a number (a colour component)", f,
+                         excerpt(t[k], 40)));
+    }
     for (long long k = 0; k < *n; ++k) {
       const auto index = as_integer(t[1 + k]);
       if (!index) fail(fmt::format("face {} index '{}' is not an integer", f, t[1 + k]));
@@ -383,7 +390,16 @@ static void check_ascii_stl_grammar(std::string_view text, const std::string& wh
     if (!next(token)) fail(fmt::format("the file ends where '{}' was expected", word));
     if (token != word) fail(fmt::format("'{}' where '{}' was expected", excerpt(token, 40), word));
   };
+  // The three numbers on the keyword's own line (assimp reads them within the line and fails
+  // past its end, leaking what it built); what follows them on the line stays in the stream.
   auto numbers = [&](const std::string& of) {
+    if (pending.empty()) {
+      std::string line;
+      std::getline(in, line);
+      std::vector<std::string> words = tokens_of(line);
+      if (words.size() < 3) fail(fmt::format("the {} has {} numbers on its line, expected 3", of, words.size()));
+      pending.assign(words.rbegin(), words.rend());
+    }
     for (int k = 0; k < 3; ++k) {
       std::string token;
       if (!next(token)) fail(fmt::format("the file ends inside the {}", of));
