@@ -173,7 +173,8 @@ void check_ply_structure(std::string_view content, const std::string& what) {
   // cannot parse: every such file is checked here.
   std::string magic(content.substr(0, 3));
   for (char& c : magic) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (magic != "ply") return;
+  // (assimp also hunts for a header further on, and can loop for ever there: refuse here)
+  if (magic != "ply") fail("cannot be parsed: Invalid .ply file: Incorrect magic number (expected 'ply' or 'PLY').");
 
   // Header: lines up to "end_header". Parsed strictly — assimp 5.2 loops forever on some
   // malformed headers (e.g. a bare "property" line), so nothing questionable may reach it.
