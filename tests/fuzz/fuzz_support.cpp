@@ -9,13 +9,21 @@
 namespace cutwork::fuzz {
 namespace fs = std::filesystem;
 
+namespace {
+/// The per-process scratch folder, removed when the process ends normally.
+struct ScratchFolder {
+  fs::path dir = fs::temp_directory_path() / ("cutwork-fuzz-" + std::to_string(::getpid()));
+  ScratchFolder() { fs::create_directories(dir); }
+  ~ScratchFolder() {
+    std::error_code ignore;
+    fs::remove_all(dir, ignore);
+  }
+};
+}  // namespace
+
 fs::path scratch_file(const std::string& name, std::string_view data) {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("cutwork-fuzz-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  const fs::path p = dir / name;
+  static const ScratchFolder scratch;
+  const fs::path p = scratch.dir / name;
   std::ofstream(p, std::ios::binary | std::ios::trunc).write(data.data(), std::streamsize(data.size()));
   return p;
 }
