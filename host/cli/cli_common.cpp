@@ -6,12 +6,15 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/work_limits.h"
 
 namespace cutwork::cli {
 
@@ -26,6 +29,35 @@ void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   cmd.add_flag("--quiet,-q", opts.quiet, "print nothing but errors");
+  add_limit_options(cmd);
+  cmd.add_flag("--wait", opts.wait,
+               "when another cutwork run is writing into the output directory, wait for it to finish "
+               "(default: fail at once)");
+}
+
+void add_limit_options(CLI::App& cmd) {
+  WorkLimits& limits = work_limits();
+  cmd.add_option("--max-faces", limits.max_faces,
+                 "refuse a base or simulation mesh with more faces than this (estimated from the edge length "
+                 "for generated meshes, counted for mesh files)")
+      ->check(CLI::Range(1, 1'000'000'000))
+      ->capture_default_str();
+  cmd.add_option("--max-stencils", limits.max_stencils,
+                 "refuse a pattern whose estimated stencil count (from pattern.count, or pattern.scale and the "
+                 "surface's area) is larger than this")
+      ->check(CLI::Range(1, 1'000'000'000))
+      ->capture_default_str();
+  cmd.add_option("--max-factor-gb", limits.max_factor_gb,
+                 "refuse a simulation mesh whose stiffness factor would take more memory than this (GB, from "
+                 "CHOLMOD's symbolic analysis before any factorisation)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
+std::unique_ptr<OutputSet> open_output_set(const RunOptions& opts) {
+  return std::make_unique<OutputSet>(opts.out, opts.wait, [&opts] {
+    say(opts, "cutwork: waiting for another cutwork run writing into " + opts.out + " to finish");
+  });
 }
 
 namespace {
@@ -78,24 +110,33 @@ DeviceChoice choose_device(const std::string& device) {
   return c;
 }
 
-ProgressLine::ProgressLine(const RunOptions& opts) : m_active(!opts.quiet && isatty(fileno(stdout))) {}
+ProgressLine::ProgressLine(const RunOptions& opts)
+    : m_active(!opts.quiet && isatty(fileno(stdout))), m_log(!opts.quiet && !m_active) {
+  // CUTWORK_PROGRESS_SECONDS changes the interval of the plain lines (tests use 0: every update).
+  if (const char* s = std::getenv("CUTWORK_PROGRESS_SECONDS")) m_log_interval = std::max(0.0, std::atof(s));
+}
 
 ProgressLine::~ProgressLine() { finish(); }
 
 void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
-  if (!m_active || (m_dirty && m_since_draw.seconds() < 0.1)) return;
+  if (m_log) {
+    if (m_since_draw.seconds() < m_log_interval) return;
+  } else if (!m_active || (m_dirty && m_since_draw.seconds() < 0.1)) {
+    return;
+  }
   m_since_draw.restart();
   const std::string w = std::isfinite(p.W_max) ? fmt::format("{:.4g} J/m^2", p.W_max) : std::string("-");
-  if (p.stage == "initialise") {
-    std::cout << fmt::format("\r\x1b[K{:<9} initialised: {} stencils  {:.1f} s", phase, p.stencils, m_clock.seconds())
-              << std::flush;
-  } else {
-    std::cout << fmt::format("\r\x1b[K{:<9} round {:>3}  iteration {:>5}  J {:>12.6g}  |grad J| {:>10.3e}  W_max {:<14} "
-                             "{} stencils  {:.1f} s",
-                             phase, p.round, p.iteration, p.objective, p.gradient_norm, w, p.stencils,
-                             m_clock.seconds())
-              << std::flush;
+  const std::string line =
+      p.stage == "initialise"
+          ? fmt::format("{:<9} initialised: {} stencils  {:.1f} s", phase, p.stencils, m_clock.seconds())
+          : fmt::format("{:<9} round {:>3}  iteration {:>5}  J {:>12.6g}  |grad J| {:>10.3e}  W_max {:<14} "
+                        "{} stencils  {:.1f} s",
+                        phase, p.round, p.iteration, p.objective, p.gradient_norm, w, p.stencils, m_clock.seconds());
+  if (m_log) {
+    std::cerr << "cutwork: " << line << "\n" << std::flush;
+    return;
   }
+  std::cout << "\r\x1b[K" << line << std::flush;
   m_dirty = true;
 }
 

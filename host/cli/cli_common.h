@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
+#include "host/core/output_set.h"
 #include "host/core/timer.h"
 #include "host/scene/scene.h"
 #include "host/stencil/fill_ratio.h"
@@ -25,10 +26,18 @@ struct RunOptions {
   std::string out = "out";          ///< output directory
   int threads = 0;                  ///< 0: all hardware threads
   bool quiet = false;
+  bool wait = false;                ///< --wait: wait for another run writing into `out`
 };
 
-/// Adds SCENE, --out, --threads, --quiet to `cmd`, storing into `opts`.
+/// Adds SCENE, --out, --threads, --quiet, --wait to `cmd`, storing into `opts`.
 void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default_scene);
+
+/// Adds --max-faces, --max-stencils and --max-factor-gb (host/core/work_limits.h) to `cmd`.
+void add_limit_options(CLI::App& cmd);
+
+/// Locks the output folder `--out` and stages the run's outputs there (see host/core/output_set.h);
+/// says on stderr when it waits for another run (--wait).
+std::unique_ptr<OutputSet> open_output_set(const RunOptions& opts);
 
 /// What every pipeline command starts with: the scene, its meshes and the supports and loads on
 /// the simulation mesh, timed into `timings` ("scene", "meshes", "load_case"). `notes` collects
@@ -63,8 +72,10 @@ struct DeviceChoice {
 DeviceChoice choose_device(const std::string& device);
 
 /// The live progress display of a pipeline: one line on the terminal, rewritten in place
-/// (phase, iteration, objective, gradient norm, W_max, elapsed). Silent with --quiet or when
-/// stdout is not a terminal; at most ten updates a second.
+/// (phase, iteration, objective, gradient norm, W_max, elapsed), at most ten updates a second.
+/// When stdout is not a terminal (a batch job, a log file), the same line goes to stderr as a
+/// plain line once a run has taken 5 s, then at most every 5 s (CUTWORK_PROGRESS_SECONDS sets
+/// the interval). Silent with --quiet.
 class ProgressLine {
  public:
   explicit ProgressLine(const RunOptions& opts);
@@ -78,6 +89,8 @@ class ProgressLine {
 
  private:
   bool m_active = false;
+  bool m_log = false;  ///< not a terminal: plain lines on stderr
+  double m_log_interval = 5.0;  ///< seconds between plain lines
   bool m_dirty = false;
   Stopwatch m_clock, m_since_draw;
 };

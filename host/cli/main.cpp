@@ -8,6 +8,7 @@
 
 #include "host/cli/commands.h"
 #include "host/core/error.h"
+#include "host/core/input_file.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -34,15 +35,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "cutwork: " << e.what() << " (see cutwork --help)\n";
     return 2;
-  } catch (const cutwork::Error& e) {
+  } catch (const cutwork::Interrupted& e) {
     std::cerr << "cutwork: " << e.what() << "\n";
+    return 128 + e.signal();
+  } catch (const cutwork::Error& e) {
+    // One line, of bounded length, whatever a message quotes from the input.
+    std::cerr << "cutwork: " << cutwork::excerpt(e.what(), 2000) << "\n";
     return 2;
   } catch (const std::bad_alloc&) {
     std::cerr << "cutwork: out of memory (try a coarser mesh resolution)\n";
     return 2;
   } catch (const std::exception& e) {
     // Anything else is a bug in cutwork, not bad input: say so, distinctly.
-    std::cerr << "cutwork: internal error: " << e.what() << "\n";
+    std::cerr << "cutwork: internal error: " << cutwork::excerpt(e.what(), 2000) << "\n";
     return 1;
   }
   return 0;

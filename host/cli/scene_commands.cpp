@@ -4,9 +4,14 @@
 
 #include <iostream>
 
+#include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
+#include "host/core/input_file.h"
+#include "host/pattern/stencils_json.h"
+#include "host/scene/work_estimate.h"
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/shell/shell_model.h"
 
 namespace cutwork::cli {
@@ -66,17 +71,33 @@ void add_check_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "check", "Validate a scene (.json), a built-in scene name or a mesh file and print a summary");
   auto what = std::make_shared<std::string>();
+  auto stencils = std::make_shared<std::string>();
   cmd->add_option("FILE", *what, "scene file, built-in scene name, or mesh (.obj .ply .off .stl)")->required();
-  cmd->callback([what] {
+  cmd->add_option("--stencils", *stencils,
+                  "also validate a design's stencils.json against the scene, as `cutwork simulate --stencils` does");
+  add_limit_options(*cmd);
+  cmd->callback([what, stencils] {
     std::string notice;
     const Scene scene = load_scene(*what, &notice);
     const SceneMeshes meshes = build_scene_meshes(scene);
     const LoadCase lc = resolve_load_case(scene, meshes.sim);
-    // Everything a simulation checks before it starts (supports that hold every part, loads that
-    // are finite and not zero) is checked here, before anything is printed.
+    // Everything design and simulate check before they start is checked here, before anything is
+    // printed: supports that hold every part and loads that are finite and not zero (the shell
+    // model), the work the pattern asks for, the exemplar against the stencils, the sizing file
+    // and the strokes (the pattern context), and a design's stencils.
     const solvers::ShellModel model(meshes.sim, scene.material, lc, scene.mechanics);
+    const solvers::EquilibriumSolver analysis(model);  // CHOLMOD's symbolic analysis: the factor's size
+    check_factor_work(scene, meshes, analysis.linear_solver().factor_nonzeros());
+    check_stencil_work(scene, meshes);
+    const PatternContext ctx(scene, meshes);
+    size_t stencil_count = 0;
+    if (!stencils->empty()) {
+      const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
+      stencil_count = read_stencils_json(*stencils, ctx.shapes(), &bounds).stencils.size();
+    }
     if (!notice.empty()) std::cout << "note: " << notice << "\n";
-    std::cout << "scene " << scene.name << (scene.description.empty() ? "" : ": " + scene.description) << "\n";
+    std::cout << "scene " << excerpt(scene.name) << (scene.description.empty() ? "" : ": " + excerpt(scene.description, 200))
+              << "\n";
     print_mesh("base mesh", meshes.base);
     if (meshes.sim_is_base)
       std::cout << "simulation mesh: the base mesh\n";
@@ -104,7 +125,12 @@ void add_check_command(CLI::App& app) {
     const Vec3 total = lc.forces.colwise().sum().transpose();
     std::cout << fmt::format("  total of the fixed loads: [{:.4g}, {:.4g}, {:.4g}] N\n", total[0], total[1],
                              total[2]);
-    std::cout << fmt::format("stencil shapes: {}\n", scene.shapes.size());
+    std::cout << fmt::format("simulation: {} DOFs, stiffness factor {} nonzeros (about {:.3g} GB)\n", model.num_dofs(),
+                             analysis.linear_solver().factor_nonzeros(),
+                             factor_bytes(analysis.linear_solver().factor_nonzeros()) / 1e9);
+    std::cout << fmt::format("stencil shapes: {}; pattern: about {:.0f} stencils (estimated)\n", scene.shapes.size(),
+                             estimate_stencil_count(scene.pattern, meshes.base));
+    if (!stencils->empty()) std::cout << fmt::format("stencils file: {} stencils\n", stencil_count);
     std::cout << "ok\n";
   });
 }

@@ -19,6 +19,7 @@
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
+#include "host/scene/work_estimate.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
 #include "solvers/report/simulate_report.h"
@@ -39,7 +40,8 @@ struct SimulateOptions {
 Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshes, const std::string& file,
                                     const FillRatioOptions& fill, int* count, std::optional<CutSurface>* cut) {
   const PatternContext ctx(scene, meshes);
-  const StencilsFile sf = read_stencils_json(file, ctx.shapes());
+  const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
+  const StencilsFile sf = read_stencils_json(file, ctx.shapes(), &bounds);
   *count = int(sf.stencils.size());
   if (sf.stencils.empty()) return Eigen::VectorXd::Ones(meshes.sim.num_faces());
   FillRatioOptions o = fill;
@@ -67,6 +69,7 @@ void run_simulate(const SimulateOptions& opts) {
   Timings timings;
   Stopwatch total;
   Stopwatch sw;
+  const std::unique_ptr<OutputSet> outputs = open_output_set(opts.run);  // locked from the start
   LoadedScene loaded(opts.run, timings);
   const Scene& scene = loaded.scene;
   const SceneMeshes& meshes = loaded.meshes;
@@ -81,6 +84,7 @@ void run_simulate(const SimulateOptions& opts) {
   settings.log = [&notes](const std::string& line) { notes.push_back(line); };
   solvers::EquilibriumSolver solver(model, settings);
   timings.add("analysis", solver.analysis_seconds());
+  check_factor_work(scene, meshes, solver.linear_solver().factor_nonzeros());  // before any factorisation
 
   // The uncut shell (every triangle full), or a design's stencils.
   Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
@@ -132,14 +136,13 @@ void run_simulate(const SimulateOptions& opts) {
                            design_file_options(opts.outputs, &progress));
   progress.finish();
 
-  // Everything is computed before anything is written: a failed run leaves no partial output.
-  // report.json goes last: its presence says the run completed.
+  // Staged, then published as one set (report.json last): a failed run leaves the folder as it was.
   const std::filesystem::path out(opts.run.out);
-  ensure_directory(out);
-  write_ply_with_face_fields(out / "fields.ply", meshes.sim,
+  write_ply_with_face_fields(outputs->stage("fields.ply"), meshes.sim,
                              {{"alpha", alpha}, {"W", summary.energy_density}, {"displacement", face_u}});
-  files.write(out);
-  write_json_atomic(out / "report.json", report);
+  files.write(placer(*outputs));
+  write_json_atomic(outputs->stage("report.json"), report);
+  outputs->publish();
   std::vector<std::string> written = {"report.json", "fields.ply"};
   for (const std::string& name : files.file_names()) written.push_back(name);
   for (const std::string& note : notes) say(opts.run, "note: " + note);

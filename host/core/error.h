@@ -26,6 +26,17 @@ class SolveError : public Error {
   using Error::Error;
 };
 
+/// A run stopped by SIGINT or SIGTERM at a point where it could stop cleanly; the command line
+/// exits with 128 + the signal's number (130, 143) after the message.
+class Interrupted : public Error {
+ public:
+  Interrupted(const std::string& message, int signal) : Error(message), m_signal(signal) {}
+  int signal() const { return m_signal; }
+
+ private:
+  int m_signal;
+};
+
 /// A requested compute device (e.g. --device vulkan) is not available.
 class DeviceError : public Error {
  public:

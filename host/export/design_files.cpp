@@ -92,28 +92,22 @@ std::vector<std::string> DesignFiles::file_names() const {
   return names;
 }
 
-std::vector<std::filesystem::path> DesignFiles::write(const std::filesystem::path& dir) const {
+std::vector<std::filesystem::path> DesignFiles::write(const FilePlacer& place) const {
   std::vector<std::filesystem::path> written;
-  write_vtu(dir / "fields.vtu", *m_in.sim, m_in.sim_fields);
-  written.push_back(dir / "fields.vtu");
+  auto put = [&](const std::string& name) { return written.emplace_back(place(name)); };
+  write_vtu(put("fields.vtu"), *m_in.sim, m_in.sim_fields);
   if (m_in.outlines) {
     std::map<std::string, Eigen::VectorXd> cells = {
         {"stencil", Eigen::VectorXd::LinSpaced(Eigen::Index(m_in.outlines->size()), 0,
                                                double(m_in.outlines->size()) - 1)}};
     if (m_in.outline_types.size() == Eigen::Index(m_in.outlines->size())) cells["type"] = m_in.outline_types;
-    write_vtp_polylines(dir / "stencils.vtp", *m_in.outlines, true, cells);
-    written.push_back(dir / "stencils.vtp");
+    write_vtp_polylines(put("stencils.vtp"), *m_in.outlines, true, cells);
   }
   if (m_solid) {
-    write_stl(dir / "cut_solid.stl", *m_solid);
-    write_3mf(dir / "cut_solid.3mf", *m_solid, m_in.title);
-    written.push_back(dir / "cut_solid.stl");
-    written.push_back(dir / "cut_solid.3mf");
+    write_stl(put("cut_solid.stl"), *m_solid);
+    write_3mf(put("cut_solid.3mf"), *m_solid, m_in.title);
   }
-  for (const auto& [name, bytes] : m_pictures) {
-    write_file_atomic(dir / name, bytes);
-    written.push_back(dir / name);
-  }
+  for (const auto& [name, bytes] : m_pictures) write_file_atomic(put(name), bytes);
   return written;
 }
 

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/core/output_set.h"
 #include "host/cut/cut_surface.h"
 #include "host/export/min_feature.h"
 #include "host/export/solid.h"
@@ -54,8 +55,10 @@ class DesignFiles {
   nlohmann::json fabrication_report() const { return m_fabrication; }
   /// The file names write() will write, in order.
   std::vector<std::string> file_names() const;
-  /// Writes every file into `dir` (which must exist); returns the paths written.
-  std::vector<std::filesystem::path> write(const std::filesystem::path& dir) const;
+  /// Writes every file where `place` puts it (a folder that exists, or an output set's staging);
+  /// returns the paths written.
+  std::vector<std::filesystem::path> write(const FilePlacer& place) const;
+  std::vector<std::filesystem::path> write(const std::filesystem::path& dir) const { return write(placer(dir)); }
 
  private:
   friend DesignFiles prepare_design_files(const DesignFileInputs&, const DesignFileOptions&);

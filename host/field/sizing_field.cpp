@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/input_file.h"
 
 namespace cutwork {
 
@@ -26,8 +27,7 @@ double brush_weight(double t) {
 }
 
 Eigen::VectorXd read_sizing_file(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string() + ": cannot open the sizing file");
+  std::istringstream in(read_input_file(file, max_json_file_bytes, "a sizing file (one number per line)"));
   std::vector<double> values;
   std::string line;
   int line_no = 0;

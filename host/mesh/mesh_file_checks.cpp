@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "host/core/error.h"
+#include "host/core/input_file.h"
 
 namespace cutwork {
 
@@ -167,7 +169,12 @@ bool is_number(const std::string& token) {
 
 void check_ply_structure(std::string_view content, const std::string& what) {
   auto fail = [&](const std::string& problem) { throw InputError(what + ": " + problem); };
-  if (content.substr(0, 3) != "ply" && content.substr(0, 3) != "PLY") return;
+  // assimp takes the magic number in any case ("plY"), and then loops forever on a header it
+  // cannot parse: every such file is checked here.
+  std::string magic(content.substr(0, 3));
+  for (char& c : magic) c = char(std::tolower(static_cast<unsigned char>(c)));
+  // (assimp also hunts for a header further on, and can loop for ever there: refuse here)
+  if (magic != "ply") fail("cannot be parsed: Invalid .ply file: Incorrect magic number (expected 'ply' or 'PLY').");
 
   // Header: lines up to "end_header". Parsed strictly — assimp 5.2 loops forever on some
   // malformed headers (e.g. a bare "property" line), so nothing questionable may reach it.
@@ -280,7 +287,8 @@ void check_off_structure(std::string_view content, const std::string& what) {
     std::istringstream in{std::string(content)};
     for (std::string line; std::getline(in, line);) {
       if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-      if (line.find_first_not_of(" \t\r\n") != std::string::npos) lines.push_back(line);
+      // (blank by the tokenizer's own notion of space: a line of form feeds or vertical tabs is blank)
+      if (!tokens_of(line).empty()) lines.push_back(line);
     }
   }
   if (lines.empty()) fail("no OFF header (the file holds only blank or comment lines)");
@@ -336,6 +344,13 @@ void check_off_structure(std::string_view content, const std::string& what) {
     if (*n > 9) fail(fmt::format("face {} has {} vertices; OFF faces with more than 9 are not supported", f, *n));
     if ((long long)(t.size()) < 1 + *n)
       fail(fmt::format("face {} lists fewer than its {} vertex indices", f, *n));
+    for (std::size_t k = std::size_t(1 + *n); k < t.size(); ++k) {  // a colour: numbers only (assimp crashes on bytes)
+      char* end = nullptr;
+      std::strtod(t[k].c_str(), &end);
+      if (end != t[k].c_str() + t[k].size())
+        fail(fmt::format("face {}: '{}' after the vertex indices is not a number (a colour component)", f,
+                         excerpt(t[k], 40)));
+    }
     for (long long k = 0; k < *n; ++k) {
       const auto index = as_integer(t[1 + k]);
       if (!index) fail(fmt::format("face {} index '{}' is not an integer", f, t[1 + k]));
@@ -350,6 +365,96 @@ void check_off_structure(std::string_view content, const std::string& what) {
                      *nv, *nf));
 }
 
+/// An ASCII STL, strictly: "solid NAME" on the first line, then facets
+///   facet normal N N N / outer loop / vertex X Y Z (three) / endloop / endfacet
+/// and "endsolid [NAME]" (further solids may follow). assimp reports a bad number by quoting the
+/// rest of the file, and leaks the mesh it was building when it meets anything unexpected, so
+/// nothing malformed may reach it.
+static void check_ascii_stl_grammar(std::string_view text, const std::string& what) {
+  std::istringstream in{std::string(text)};
+  long long facet = -1;
+  auto fail = [&](const std::string& problem) {
+    throw InputError(fmt::format("{}: cannot be parsed: ASCII STL{}: {}", what,
+                                 facet >= 0 ? fmt::format(" facet {}", facet) : std::string(), problem));
+  };
+  std::vector<std::string> pending;  // tokens of a "solid" line after its name, in reverse order
+  bool from_pending = false;  // the last token came from `pending` (its line is already read)
+  auto next = [&](std::string& token) {
+    from_pending = !pending.empty();
+    if (!from_pending) return bool(in >> token);
+    token = std::move(pending.back());
+    pending.pop_back();
+    return true;
+  };
+  auto expect = [&](const char* word) {
+    std::string token;
+    if (!next(token)) fail(fmt::format("the file ends where '{}' was expected", word));
+    if (token != word) fail(fmt::format("'{}' where '{}' was expected", excerpt(token, 40), word));
+  };
+  // The three numbers on the keyword's own line (assimp reads them within the line and fails
+  // past its end, leaking what it built); what follows them on the line stays in the stream.
+  auto numbers = [&](const std::string& of) {
+    if (pending.empty()) {
+      std::string line;
+      std::getline(in, line);
+      std::vector<std::string> words = tokens_of(line);
+      if (words.size() < 3) fail(fmt::format("the {} has {} numbers on its line, expected 3", of, words.size()));
+      pending.assign(words.rbegin(), words.rend());
+    }
+    for (int k = 0; k < 3; ++k) {
+      std::string token;
+      if (!next(token)) fail(fmt::format("the file ends inside the {}", of));
+      char* end = nullptr;
+      std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size())
+        fail(fmt::format("{} coordinate {} '{}' is not a number", of, k, excerpt(token, 40)));
+    }
+  };
+  auto skip_line = [&] {
+    if (from_pending) {
+      pending.clear();
+      return;
+    }
+    std::string rest;
+    std::getline(in, rest);
+  };
+  // "solid [NAME]": as in assimp, the name is one token and the rest of its line is body.
+  auto solid_line = [&] {
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> words = tokens_of(line);
+    if (!words.empty()) words.erase(words.begin());  // the name
+    pending.assign(words.rbegin(), words.rend());
+  };
+  std::string token;
+  next(token);  // "solid" (checked by the caller)
+  solid_line();
+  while (next(token)) {
+    if (token == "endsolid") {
+      skip_line();
+      if (!next(token)) break;
+      if (token != "solid") fail(fmt::format("'{}' after 'endsolid' (expected another 'solid' or the end)",
+                                             excerpt(token, 40)));
+      solid_line();
+      continue;
+    }
+    if (token != "facet") fail(fmt::format("'{}' where 'facet' or 'endsolid' was expected", excerpt(token, 40)));
+    ++facet;
+    expect("normal");
+    numbers("normal");
+    expect("outer");
+    expect("loop");
+    int corners = 0;
+    bool more = next(token);
+    for (; more && token == "vertex"; ++corners, more = next(token)) numbers(fmt::format("vertex {}", corners));
+    if (!more) fail("the file ends inside the facet's loop");
+    if (token != "endloop") fail(fmt::format("'{}' where 'vertex' or 'endloop' was expected", excerpt(token, 40)));
+    if (corners != 3)
+      throw InputError(fmt::format("{}: facet {} has {} vertices (STL facets are triangles)", what, facet, corners));
+    expect("endfacet");
+  }
+}
+
 void check_stl_structure(std::string_view content, const std::string& what) {
   // A binary STL is 80 header bytes, a uint32 facet count and 50 bytes per facet; its header
   // may start with "solid" too, so the size decides (as in assimp).
@@ -359,25 +464,19 @@ void check_stl_structure(std::string_view content, const std::string& what) {
     if (content.size() == 84 + 50 * facets) return;
   }
   std::size_t start = content.find_first_not_of(" \t\r\n");
-  if (start == std::string_view::npos || content.substr(start, 5) != "solid") return;  // binary
-  std::istringstream in{std::string(content.substr(start))};
-  long long facet = -1, corners = 0;
-  bool in_loop = false;
-  for (std::string token; in >> token;) {
-    if (token == "facet") {
-      ++facet;
-    } else if (token == "loop") {
-      in_loop = true;
-      corners = 0;
-    } else if (token == "vertex" && in_loop) {
-      ++corners;
-    } else if (token == "endloop") {
-      in_loop = false;
-      if (corners != 3)
-        throw InputError(fmt::format("{}: facet {} has {} vertices (STL facets are triangles)", what,
-                                     facet, corners));
-    }
+  if (start == std::string_view::npos || content.substr(start, 5) != "solid") {
+    // Neither: say why for each (assimp says only "Failed to determine STL storage representation").
+    if (content.size() < 84)
+      throw InputError(fmt::format("{}: cannot be parsed: not an STL file: an ASCII STL starts with 'solid', and {} bytes are too "
+                                   "few for a binary STL (80-byte header, facet count, 50 bytes per facet)",
+                                   what, content.size()));
+    std::uint64_t facets = 0;
+    for (int b = 3; b >= 0; --b) facets = (facets << 8) | std::uint8_t(content[80 + b]);
+    throw InputError(fmt::format("{}: cannot be parsed: not an STL file: an ASCII STL starts with 'solid', and a binary STL "
+                                 "declaring {} facets would be {} bytes long, not {}",
+                                 what, facets, 84 + 50 * facets, content.size()));
   }
+  check_ascii_stl_grammar(content.substr(start), what);
 }
 
 }  // namespace cutwork

@@ -26,6 +26,8 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/core/input_file.h"
+#include "host/core/work_limits.h"
 #include "host/mesh/mesh_file_checks.h"
 #include "host/mesh/polygon_triangulation.h"
 
@@ -232,6 +234,15 @@ ObjScan scan_obj(std::string_view text, const std::string& what) {
   return scan;
 }
 
+/// The face cap (work_limits().max_faces), checked before the mesh's topology is built.
+void check_face_count(std::size_t faces, const std::string& what) {
+  const int limit = work_limits().max_faces;
+  if (faces > std::size_t(limit))
+    throw InputError(fmt::format("{}: has {} faces, more than the limit of {} (raise it with --max-faces if this "
+                                 "is meant; a finer mesh than that is beyond what the solvers can factorise)",
+                                 what, faces, limit));
+}
+
 /// Reads an OBJ text in double precision. All shapes become one surface, faces in file order
 /// (polygons replaced by their triangles); the vertices that faces use are welded by exact
 /// position and numbered in file order.
@@ -372,6 +383,7 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
   RowMatX3i faces(triangles.size(), 3);
   for (std::size_t f = 0; f < triangles.size(); ++f)
     for (int k = 0; k < 3; ++k) faces(f, k) = welded[std::size_t(triangles[f][k])];
+  check_face_count(std::size_t(faces.rows()), what);
   return SurfaceMesh(std::move(vertices), std::move(faces), what);
 }
 
@@ -393,22 +405,12 @@ SurfaceMesh read_mesh(const fs::path& path) {
   if (!is_mesh_file(path)) {
     const std::string ext = path.extension().string();
     fail(fmt::format("unknown mesh format '{}' (expected .obj, .ply, .off or .stl)",
-                     ext.empty() ? "no extension" : ext));
+                     ext.empty() ? "no extension" : excerpt(ext, 20)));
   }
-  std::ifstream probe(path, std::ios::binary);
-  if (!probe) fail("cannot be opened for reading (check its permissions)");
-  const auto size = fs::file_size(path, ec);
-  if (ec) fail("cannot be read (" + ec.message() + ")");
-  if (size == 0) fail("file is empty");
+  // A regular file (a FIFO would block) of at most max_mesh_file_bytes.
+  std::string content = read_input_file(path, max_mesh_file_bytes, "a mesh file");
+  if (content.empty()) fail("file is empty");
   const std::string ext = lower_extension(path);
-  std::string content;
-  {
-    std::stringstream buffer;
-    buffer << probe.rdbuf();
-    if (buffer.fail()) fail("cannot be read");
-    content = std::move(buffer).str();
-  }
-  probe.close();
 
   // OBJ, cutwork's own output format, is read in double precision (tinyobjloader's double
   // build; see read_obj). The other formats go through assimp, which stores coordinates as
@@ -428,9 +430,10 @@ SurfaceMesh read_mesh(const fs::path& path) {
   try {
     scene = importer.ReadFile(what, aiProcess_Triangulate);
   } catch (const std::exception& e) {
-    fail(std::string("cannot be parsed: ") + e.what());
+    fail("cannot be parsed: " + excerpt(e.what(), 200));
   }
-  if (scene == nullptr) fail(std::string("cannot be parsed: ") + importer.GetErrorString());
+  // assimp's messages may quote the file: one bounded line.
+  if (scene == nullptr) fail("cannot be parsed: " + excerpt(importer.GetErrorString(), 200));
   if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
     fail("cannot be parsed: assimp reports an incomplete scene");
 
@@ -477,6 +480,7 @@ SurfaceMesh read_mesh(const fs::path& path) {
   RowMatX3i faces(triangles.size(), 3);
   for (std::size_t f = 0; f < triangles.size(); ++f)
     faces.row(f) << triangles[f][0], triangles[f][1], triangles[f][2];
+  check_face_count(std::size_t(faces.rows()), what);
   return SurfaceMesh(std::move(vertices), std::move(faces), what);
 }
 

@@ -45,7 +45,8 @@ void write_stencils_json(const std::filesystem::path& path, const StencilLayout&
   write_json_atomic(path, stencils_to_json(layout, surface, shapes));
 }
 
-StencilsFile read_stencils_json(const std::filesystem::path& path, const StencilLibrary& shapes) {
+StencilsFile read_stencils_json(const std::filesystem::path& path, const StencilLibrary& shapes,
+                                const StencilBounds* bounds) {
   const json doc = read_json_file(path);
   const std::string origin = path.string();
   JsonObjectReader root(doc, origin, "");
@@ -85,7 +86,15 @@ StencilsFile read_stencils_json(const std::filesystem::path& path, const Stencil
     StencilParams p;
     p.type = shapes.find(type);
     p.position = r.required_vec3("position");
-    p.scale = r.required_number("scale", 0, INFINITY, true, true);
+    const double diagonal = bounds ? (bounds->hi - bounds->lo).norm() : INFINITY;
+    if (bounds) {
+      const Vec3 outside = (p.position - bounds->hi).cwiseMax(bounds->lo - p.position).cwiseMax(0.0);
+      if (outside.norm() > 0.5 * diagonal)
+        r.fail("position", fmt::format("lies {:.4g} m outside the surface's bounding box (diagonal {:.4g} m): this "
+                                       "file was made for another surface",
+                                       outside.norm(), diagonal));
+    }
+    p.scale = r.required_number("scale", 0, diagonal, true, false);
     p.angle = r.number("angle", 0.0, -1e6, 1e6);
     out.axis_x.row(Eigen::Index(i)) = r.vec3("axis_x", Vec3::Zero()).transpose();
     r.vec3("normal", Vec3::Zero());

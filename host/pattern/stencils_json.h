@@ -34,11 +34,19 @@ struct StencilsFile {
   RowMatX3d axis_x;
 };
 
+/// The bounding box of the surface the stencils belong to (m).
+struct StencilBounds {
+  Vec3 lo, hi;
+};
+
 /// Reads stencils.json strictly (the format above; normal, tangent and bounding_radius are
 /// accepted and ignored). Throws InputError naming the file and JSON path for an unreadable
 /// file, an unknown key, a stencil type that is not among `shapes`, a shape whose polygon
 /// differs from the scene's shape of that name, a non-finite position or angle, or a scale
-/// that is not > 0.
-StencilsFile read_stencils_json(const std::filesystem::path& path, const StencilLibrary& shapes);
+/// that is not > 0. With `bounds`, also a scale larger than the box's diagonal (a stencil that
+/// covers the whole surface: no design makes one, and 1e308 overflows the clipping) and a
+/// position farther than half a diagonal outside the box.
+StencilsFile read_stencils_json(const std::filesystem::path& path, const StencilLibrary& shapes,
+                                const StencilBounds* bounds = nullptr);
 
 }  // namespace cutwork

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "host/core/error.h"
+#include "host/core/input_file.h"
 
 namespace cutwork {
 
@@ -116,7 +117,7 @@ std::string JsonObjectReader::string(const std::string& key, const std::string& 
   if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    fail(key, "unknown value '" + s + "' (accepted: " + list + ")");
+    fail(key, "unknown value '" + excerpt(s) + "' (accepted: " + list + ")");
   }
   return s;
 }
@@ -165,7 +166,7 @@ void JsonObjectReader::finish() const {
     if (m_read.count(it.key())) continue;
     std::string list;
     for (const auto& a : m_accepted) list += (list.empty() ? "" : ", ") + a;
-    throw InputError(m_origin + ": " + path_of(it.key()) + ": unknown key (accepted here: " +
+    throw InputError(m_origin + ": " + path_of(excerpt(it.key())) + ": unknown key (accepted here: " +
                      (list.empty() ? std::string("none") : list) + ")");
   }
 }

@@ -4,8 +4,10 @@
 #include <cmath>
 
 #include "host/core/error.h"
+#include "host/core/work_limits.h"
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
+#include "host/pattern/exemplar.h"
 #include "host/scene/json_reader.h"
 #include "host/shapes/shapes.h"
 #include "host/stencil/stencil_shape.h"
@@ -257,6 +259,8 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
       if (ex->is_string()) {
         o.exemplar = p.string("exemplar", "", exemplar_names());
       } else if (ex->is_object()) {
+        // Validated here (what `check` runs), mapped onto the stencils by the pattern phase.
+        parse_exemplar(*ex, origin, p.path_of("exemplar"));
         o.exemplar_inline = *ex;
       } else {
         p.fail("exemplar", "expected a built-in exemplar name or an exemplar object");
@@ -475,11 +479,18 @@ SceneMeshes build_scene_meshes(const Scene& scene) {
   SceneMeshes out;
   if (!scene.mesh.generator.empty()) {
     try {
-      out.base = generate_shape(scene.mesh.generator, scene.mesh.params, scene.mesh.edge_length);
-      if (scene.mesh.sim_edge_length > 0 && scene.mesh.sim_edge_length != scene.mesh.edge_length)
-        out.sim = generate_shape(scene.mesh.generator, scene.mesh.params, scene.mesh.sim_edge_length);
+      out.base = generate_shape(scene.mesh.generator, scene.mesh.params, scene.mesh.edge_length,
+                                work_limits().max_faces);
     } catch (const InputError& e) {
       throw InputError(scene_origin(scene) + ": /mesh: " + e.what());
+    }
+    if (scene.mesh.sim_edge_length > 0 && scene.mesh.sim_edge_length != scene.mesh.edge_length) {
+      try {
+        out.sim = generate_shape(scene.mesh.generator, scene.mesh.params, scene.mesh.sim_edge_length,
+                                 work_limits().max_faces, "sim_edge_length");
+      } catch (const InputError& e) {
+        throw InputError(scene_origin(scene) + ": /mesh: " + e.what());
+      }
     }
     if (out.sim.num_faces() == 0) {
       out.sim = out.base;

@@ -587,7 +587,7 @@ const ShapeInfo* find_shape(const std::string& name) {
 }
 
 SurfaceMesh generate_shape(const std::string& name, const ShapeParameters& params,
-                           double edge_length, int max_faces) {
+                           double edge_length, int max_faces, const std::string& length_key) {
   const Definition* d = find_definition(name);
   if (!d) {
     throw InputError(fmt::format("unknown shape '{}' (built-in shapes: {})", name, shape_names()));
@@ -601,23 +601,23 @@ SurfaceMesh generate_shape(const std::string& name, const ShapeParameters& param
   // The bound is printed with 6 significant digits; accept values that round to it.
   if (!std::isfinite(edge_length) || edge_length <= 0 || edge_length > coarsest * (1 + 1e-5)) {
     throw InputError(fmt::format(
-        "{}: edge_length must be a length in (0, {:g}] m for these parameters (got {:g})", shape,
+        "{}: {} must be a length in (0, {:g}] m for these parameters (got {:g})", shape, length_key,
         coarsest, edge_length));
   }
   const double faces = d->num_faces(p, edge_length);
   if (faces > max_faces) {
     if (d->num_faces(p, coarsest) > max_faces) {
       throw InputError(fmt::format(
-          "{}: max_faces = {} is too small: even the coarsest mesh (edge_length {:g} m) has {:g} "
+          "{}: max_faces = {} is too small: even the coarsest mesh ({} {:g} m) has {:g} "
           "faces",
-          shape, max_faces, coarsest, d->num_faces(p, coarsest)));
+          shape, max_faces, length_key, coarsest, d->num_faces(p, coarsest)));
     }
     // (absurd requests overflow the count to infinity: say "over 1e12" rather than "inf")
     const std::string count = faces < 1e12 ? fmt::format("{:.0f}", faces) : "over 1e12";
     throw InputError(fmt::format(
-        "{}: edge_length {:g} m would give {} faces, more than max_faces = {}; use "
-        "edge_length >= {:g} m",
-        shape, edge_length, count, max_faces, fitting_edge_length(*d, p, edge_length, faces, coarsest, max_faces)));
+        "{}: {} {:g} m would give {} faces, more than max_faces = {}; use "
+        "{} >= {:g} m",
+        shape, length_key, edge_length, count, max_faces, length_key, fitting_edge_length(*d, p, edge_length, faces, coarsest, max_faces)));
   }
   return d->generate(p, edge_length, shape);
 }

@@ -64,7 +64,10 @@ const ShapeInfo* find_shape(const std::string& name);
 /// on other parameters are stated as numbers), an edge length that is not finite and positive
 /// or coarser than the shape allows (the message gives the admissible interval), or one that
 /// would exceed `max_faces` faces (the message gives the finest edge length that fits).
+/// `length_key` names the edge length in messages (a scene's "edge_length" or "sim_edge_length").
+inline constexpr int default_max_faces = 4'000'000;
 SurfaceMesh generate_shape(const std::string& name, const ShapeParameters& params,
-                           double edge_length, int max_faces = 4'000'000);
+                           double edge_length, int max_faces = default_max_faces,
+                           const std::string& length_key = "edge_length");
 
 }  // namespace cutwork

@@ -359,7 +359,9 @@ StencilShape make_builtin_stencil(const std::string& kind,
     values[p.name] = p.default_value;
     accepted.push_back(p.name);
   }
-  for (const auto& [key, value] : params) {
+  for (const auto& entry : params) {
+    const std::string& key = entry.first;  // (a plain variable: clang 14 cannot capture a structured binding)
+    const double value = entry.second;
     const auto pit = std::find_if(it->params.begin(), it->params.end(),
                                   [&](const StencilParamInfo& p) { return p.name == key; });
     if (pit == it->params.end())

@@ -36,7 +36,12 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   PatternPhaseOptions po;
   po.max_iterations = options.pattern_iterations;
   if (options.progress) po.progress = [&](const PatternProgress& p) { return options.progress("pattern", p); };
-  r.pattern = run_pattern_phase(ctx, po);
+  if (options.resume_pattern) {
+    r.pattern = *options.resume_pattern;
+  } else {
+    r.pattern = run_pattern_phase(ctx, po);
+    if (options.pattern_done) options.pattern_done(r.pattern);
+  }
   r.timings.add("pattern", sw.seconds());
 
   sw.restart();

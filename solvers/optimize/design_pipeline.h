@@ -28,6 +28,12 @@ struct DesignOptions {
   int structure_iterations = -1;   ///< −1: the scene's structure.max_iterations
   /// Progress of either phase ("pattern", "structure"); return false to stop that phase early.
   std::function<bool(const std::string& phase, const PatternProgress&)> progress;
+  /// Checkpoints (`cutwork design --resume`): called with the pattern phase's result as soon as
+  /// the phase has ended, before anything else runs.
+  std::function<void(const PatternPhaseResult&)> pattern_done;
+  /// A pattern phase's result from a checkpoint: used instead of running the phase (the rest of
+  /// the design then runs exactly as after that phase).
+  const PatternPhaseResult* resume_pattern = nullptr;
 };
 
 /// A design's equilibrium and what the report says of it.

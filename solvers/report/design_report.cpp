@@ -4,6 +4,7 @@
 #include <map>
 
 #include "host/core/atomic_file.h"
+#include "host/core/output_set.h"
 #include "host/export/stencil_outlines.h"
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
@@ -146,16 +147,15 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   return out;
 }
 
-void write_design_outputs(const std::filesystem::path& dir, const DesignOutputs& o) {
+void write_design_outputs(const FilePlacer& place, const DesignOutputs& o) {
   const DesignResult& r = *o.result;
-  ensure_directory(dir);
-  write_stencils_json(dir / "stencils.json", r.layout, o.ctx->surface(), o.ctx->shapes());
-  write_ply_with_face_fields(dir / "fields.ply", o.meshes->sim,
+  write_stencils_json(place("stencils.json"), r.layout, o.ctx->surface(), o.ctx->shapes());
+  write_ply_with_face_fields(place("fields.ply"), o.meshes->sim,
                              {{"alpha", r.final_design.alpha}, {"W", r.final_design.summary.energy_density},
                               {"W_pattern", r.pattern_design.summary.energy_density}});
-  write_obj(dir / "cut.obj", o.cut.vertices, o.cut.faces);
-  if (o.files) o.files->write(dir);
-  write_json_atomic(dir / "report.json", o.report);
+  write_obj(place("cut.obj"), o.cut.vertices, o.cut.faces);
+  if (o.files) o.files->write(place);
+  write_json_atomic(place("report.json"), o.report);
 }
 
 std::vector<std::string> design_output_names(const DesignOutputs& o) {
@@ -221,7 +221,9 @@ json design_into_folder(const Scene& scene, const std::filesystem::path& dir, co
   const DesignResult result = run_design(scene, meshes, load_case, ctx, options);
   DesignOutputs outputs = finish_design(scene, meshes, ctx, result, std::move(info), total);
   add_design_files(outputs, scene, load_case, file_options);
-  write_design_outputs(dir, outputs);
+  OutputSet set(dir);
+  write_design_outputs(placer(set), outputs);
+  set.publish();
   return outputs.report;
 }
 

@@ -79,13 +79,14 @@ nlohmann::json design_report(const Scene& scene, const SceneMeshes& meshes, cons
 /// One design's equilibrium as the report states it (stencils, W_max, compliance, ...).
 nlohmann::json design_state_json(const DesignState& state);
 
-/// Writes the standard outputs (file comment) into `dir`, creating it if needed; every file
-/// atomically, report.json last. Throws InputError naming a file that cannot be written.
-void write_design_outputs(const std::filesystem::path& dir, const DesignOutputs& outputs);
+/// Writes the standard outputs (file comment) where `place` puts them — an OutputSet's staging, to
+/// be published as one set (host/core/output_set.h) — every file atomically, report.json last.
+/// Throws InputError naming a file that cannot be written.
+void write_design_outputs(const FilePlacer& place, const DesignOutputs& outputs);
 
 /// One whole design of `scene` into `dir`, as `cutwork design` makes it: meshes, supports and
 /// loads, pattern context, run_design with `options`, finish_design, add_design_files with
-/// `file_options`, write_design_outputs.
+/// `file_options`, write_design_outputs into an OutputSet on `dir` published as one set.
 /// `on_meshes` (optional) is called once the meshes exist, before the design starts (the sweep
 /// reserves memory there). Returns report.json. Throws what the steps throw; writes nothing
 /// unless the design succeeds.
