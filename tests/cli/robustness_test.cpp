@@ -90,14 +90,15 @@ TEST(CliRobustness, OutputFoldersHoldOneCompleteSet) {
   for (const char* f : {"report.json", "stencils.json", "fields.ply", "cut.obj", ".cutwork-outputs"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   fs::copy_file(out / "stencils.json", dir / "stencils.json");
-  const auto s = cutwork("simulate plate --device cpu --quiet --stencils " + (dir / "stencils.json").string() +
-                         " --out " + out.string());
+  const auto s = cutwork("simulate plate --device cpu --quiet --no-render --stencils " +
+                         (dir / "stencils.json").string() + " --out " + out.string());
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const auto after = folder(out);
   std::set<std::string> names;
   for (const auto& [name, text] : after) names.insert(name);
-  EXPECT_EQ(names, (std::set<std::string>{".cutwork-outputs", "fields.ply", "report.json"}));
-  EXPECT_EQ(after.at(".cutwork-outputs"), "fields.ply\n.cutwork-outputs\nreport.json\n");
+  // simulate --no-render's set: fields.ply, fields.vtu and report.json (last), with the manifest.
+  EXPECT_EQ(names, (std::set<std::string>{".cutwork-outputs", "fields.ply", "fields.vtu", "report.json"}));
+  EXPECT_EQ(after.at(".cutwork-outputs"), "fields.ply\nfields.vtu\n.cutwork-outputs\nreport.json\n");
 
   // A failed run into a folder holding a set leaves the set exactly as it was.
   const auto bad = cutwork("simulate plate --device cpu --stencils " + mutant("stencils_scale_1e308.json").string() +
