@@ -24,10 +24,7 @@ void write_text(const fs::path& p, const std::string& text) {
   std::ofstream(p) << text;
 }
 
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using test::read_json;
 
 // A bad input gives exit code 2 and exactly one line on stderr containing every fragment.
 void expect_one_line_error(const test::CommandResult& r, std::initializer_list<std::string> fragments) {

@@ -18,10 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::run_cutwork;
 
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using test::read_json;
 
 /// The per-face double properties of a binary PLY as cutwork writes it (write_ply_with_face_fields).
 std::map<std::string, Eigen::VectorXd> read_ply_face_fields(const fs::path& path, RowMatX3d* vertices) {

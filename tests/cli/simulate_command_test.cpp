@@ -19,10 +19,7 @@ int count_lines(const std::string& s) {
   return n;
 }
 
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using test::read_json;
 
 /// The built-in plate scene as a document, to be modified into bad inputs.
 nlohmann::json plate_scene() {

@@ -17,10 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::run_cutwork;
 
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using test::read_json;
 
 int count_lines(const std::string& s) {
   int n = 0;

@@ -47,4 +47,9 @@ CommandResult run_shell(const std::string& command) {
   return r;
 }
 
+nlohmann::json read_json(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
 }  // namespace cutwork::test

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace cutwork::test {
 
 /// tests/data in the source tree.
@@ -19,6 +21,8 @@ struct CommandResult {
 std::filesystem::path cutwork_binary();
 /// Runs `<build>/bin/cutwork <args>` through the shell and captures stdout and stderr.
 CommandResult run_cutwork(const std::string& args);
+/// The JSON document in file `path` (a report.json, a scene); throws when it cannot be parsed.
+nlohmann::json read_json(const std::filesystem::path& path);
 /// Runs a shell command line (stdin from /dev/null) and captures stdout and stderr.
 CommandResult run_shell(const std::string& command);
 
