@@ -15,7 +15,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cctype>
 #include <random>
 #include <string>
 #include <vector>
@@ -40,12 +39,6 @@ using render::View;
 
 constexpr int kChannelTolerance = 1;
 constexpr double kEdgeFraction = 0.005;
-
-bool is_lavapipe(const vulkan::Context& ctx) {
-  std::string id = ctx.info().name + " " + ctx.info().driver;
-  std::transform(id.begin(), id.end(), id.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return id.find("llvmpipe") != std::string::npos || id.find("lavapipe") != std::string::npos;
-}
 
 std::vector<Rgb> random_colours(size_t n, unsigned seed) {
   std::mt19937 rng(seed);
@@ -81,12 +74,7 @@ ViewSetup framing(const RowMatX3d& V, View view) {
 
 class RasterizerVkTest : public VulkanTest {
  protected:
-  Rasterizer device_twin() {
-    ComputeBackend backend;
-    backend.kind = ComputeBackend::Kind::Vulkan;
-    backend.context = shared_ctx();
-    return Rasterizer::for_backend(backend);
-  }
+  Rasterizer device_twin() { return Rasterizer::for_backend(vulkan_backend(shared_ctx())); }
 
   /// Renders with both twins and holds them to the parity contract; returns the device's image.
   Image expect_parity(const Rasterizer& vk, const RowMatX3d& V, const RowMatX3i& F, const std::vector<Rgb>& colours,
