@@ -15,6 +15,11 @@
 /// One submission per picture panel: upload the view (152 B), the mesh and the face colours
 /// (only the blocks that changed since the last call: the nine panels of a design share the
 /// mesh), then clear → depth → winner → resolve, and download the image.
+///
+/// Load balance: one invocation per face walks that face's whole sample box. The simulation and
+/// cut meshes have small triangles (a few to a few hundred samples each); a single triangle
+/// filling an 8192-pixel panel would be one long invocation (splitting large faces' boxes over
+/// several invocations is the next step if that ever matters).
 #include <cstdint>
 #include <memory>
 
