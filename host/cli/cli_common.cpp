@@ -93,7 +93,7 @@ void say(const RunOptions& opts, const std::string& line) {
 
 void add_device_option(CLI::App& cmd, std::string& device) {
   cmd.add_option("--device", device,
-                 "where the clip and fill kernels run: cpu (TBB), vulkan (a GPU, else Mesa's lavapipe; "
+                 "where the clip and fill kernels and the pictures' rasteriser run: cpu (TBB), vulkan (a GPU, else Mesa's lavapipe; "
                  "CUTWORK_VK_DEVICE picks one), or auto (a GPU when there is one, else the CPU; a CPU "
                  "implementation of Vulkan such as lavapipe is left to --device vulkan)")
       ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
@@ -104,8 +104,10 @@ DeviceChoice choose_device(const std::string& device) {
   DeviceChoice c;
   c.backend = select_compute_backend(parse_device_request(device), &std::cerr);
   c.fill = FillRatioOptions::for_backend(c.backend);
+  c.rasterizer = render::Rasterizer::for_backend(c.backend);
   c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver},
-              {"requested", device}, {"reason", c.backend.reason}};
+              {"requested", device}, {"reason", c.backend.reason},
+              {"render", std::string(c.rasterizer.kind_name())}};
   if (!c.backend.fallback_reason.empty()) c.report["fallback_reason"] = c.backend.fallback_reason;
   return c;
 }

@@ -9,6 +9,7 @@
 
 #include "host/core/output_set.h"
 #include "host/core/timer.h"
+#include "host/render/rasterizer.h"
 #include "host/scene/scene.h"
 #include "host/stencil/fill_ratio.h"
 #include "host/vulkan/backend.h"
@@ -60,11 +61,13 @@ void say(const RunOptions& opts, const std::string& line);
 /// Adds `--device cpu|vulkan|auto` (stored in `device`).
 void add_device_option(CLI::App& cmd, std::string& device);
 
-/// What `--device` resolved to: the fill-ratio backend and report.json's `device` object.
+/// What `--device` resolved to: the fill-ratio backend, the rasteriser twin that draws the
+/// pictures (the same device), and report.json's `device` object.
 struct DeviceChoice {
   ComputeBackend backend;
   FillRatioOptions fill;
-  nlohmann::json report;  ///< {kind, name, driver}
+  render::Rasterizer rasterizer;
+  nlohmann::json report;  ///< {kind, name, driver, requested, reason, render}
 };
 /// Resolves `--device` (see host/vulkan/backend.h). `auto` without a usable Vulkan device warns
 /// once on stderr (even with --quiet: it changes what runs) and uses the CPU; `vulkan` without

@@ -185,7 +185,7 @@ void run_design_command(const DesignCommandOptions& opts) {
   progress.stage("cut");
   solvers::DesignRunInfo info{timings, device.report, notes};
   solvers::DesignOutputs design = solvers::finish_design(scene, meshes, ctx, r, std::move(info), total);
-  solvers::add_design_files(design, scene, load_case, design_file_options(opts.outputs, &progress));
+  solvers::add_design_files(design, scene, load_case, design_file_options(opts.outputs, &progress, device.rasterizer));
   progress.finish();
   solvers::write_design_outputs(placer(*outputs), design);
   outputs->publish();

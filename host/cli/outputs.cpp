@@ -40,10 +40,12 @@ std::pair<int, int> parse_size(const std::string& text, const std::string& optio
   return {w, h};
 }
 
-DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* progress) {
+DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* progress,
+                                      const render::Rasterizer& rasterizer) {
   DesignFileOptions o;
   o.render = !opts.no_render;
   std::tie(o.pictures.width, o.pictures.height) = parse_size(opts.render_size, "--render-size");
+  o.pictures.rasterizer = rasterizer;
   if (progress != nullptr) o.progress = [progress](const std::string& s) { progress->stage(s); };
   return o;
 }

@@ -23,8 +23,10 @@ void add_output_options(CLI::App& cmd, OutputOptions& opts);
 /// [64, 8192] × [48, 8192].
 std::pair<int, int> parse_size(const std::string& text, const std::string& option);
 
-/// DesignFileOptions from the command line; stages are shown on `progress` when not null.
-DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* progress);
+/// DesignFileOptions from the command line; stages are shown on `progress` when not null; the
+/// pictures are drawn by `rasterizer` (DeviceChoice::rasterizer: the --device's twin).
+DesignFileOptions design_file_options(const OutputOptions& opts, ProgressLine* progress,
+                                      const render::Rasterizer& rasterizer);
 
 /// The inputs of a simulation's files: fields.vtu (α, W, displacement) and the pictures (the
 /// design picture shows `cut`, the design's stencils cut out, or the base surface when null).

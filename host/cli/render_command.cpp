@@ -31,6 +31,7 @@ struct RenderCommandOptions {
   std::string views = "iso,front,top";
   std::string fields = "all";
   std::string size = "1200x420";
+  std::string device = "auto";
   bool quiet = false;
 };
 
@@ -91,11 +92,15 @@ void run_render(const RenderCommandOptions& opts) {
   const bool all = opts.fields == "all";
   if (!all)
     for (render::Field field : fields) (void)render::draw_picture(f, field, {64, 48, {render::View::Top}, false});
+  const DeviceChoice device = choose_device(opts.device);
+  po.rasterizer = device.rasterizer;
   ensure_directory(out);
   const std::vector<fs::path> written = render::write_pictures(out, f, fields, po);
   std::vector<std::string> names;
   for (const fs::path& p : written) names.push_back(p.filename().string());
-  if (!opts.quiet) std::cerr << "cutwork render: wrote " << files_written(out, names) << "\n";
+  if (!opts.quiet)
+    std::cerr << "cutwork render: wrote " << files_written(out, names) << " (drawn on " << device.rasterizer.kind_name()
+              << (device.rasterizer.on_device() ? ": " + device.backend.name : std::string()) << ")\n";
 }
 
 }  // namespace
@@ -114,6 +119,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--field", opts->fields, "comma-separated pictures to draw: W, alpha, design, or all")
       ->capture_default_str();
   cmd->add_option("--size", opts->size, "picture size in pixels, WxH")->capture_default_str();
+  add_device_option(*cmd, opts->device);
   cmd->add_flag("--quiet,-q", opts->quiet, "print nothing but errors");
   cmd->callback([opts] { run_render(*opts); });
 }

@@ -91,11 +91,15 @@ void run_simulate(const SimulateOptions& opts) {
   int stencil_count = 0;
   nlohmann::json device_report = nullptr;
   std::optional<CutSurface> cut;
+  // --device places the stencils' fill ratios and the pictures; an uncut run without pictures needs none.
+  std::optional<DeviceChoice> device;
+  if (!opts.stencils.empty() || !opts.outputs.no_render) {
+    device = choose_device(opts.device);
+    device_report = device->report;
+  }
   if (!opts.stencils.empty()) {
     sw.restart();
-    const DeviceChoice device = choose_device(opts.device);
-    device_report = device.report;
-    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device.fill, &stencil_count, &cut);
+    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device->fill, &stencil_count, &cut);
     timings.add("fill_ratios", sw.seconds());
   }
   sw.restart();
@@ -133,7 +137,7 @@ void run_simulate(const SimulateOptions& opts) {
   ProgressLine progress(opts.run);
   const DesignFiles files =
       prepare_design_files(simulation_file_inputs(scene, meshes, alpha, summary.energy_density, u, cut ? &*cut : nullptr),
-                           design_file_options(opts.outputs, &progress));
+                           design_file_options(opts.outputs, &progress, device ? device->rasterizer : render::Rasterizer{}));
   progress.finish();
 
   // Staged, then published as one set (report.json last): a failed run leaves the folder as it was.

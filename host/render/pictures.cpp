@@ -186,7 +186,7 @@ Image draw_picture(const DesignFields& f, Field field, const PictureOptions& o) 
     ViewSetup setup;
     setup.view = views[i];
     setup.frame = frame;
-    Image panel = rasterize(*c.vertices, *c.faces, c.colours, setup, panel_w, panel_h);
+    Image panel = o.rasterizer.rasterize(*c.vertices, *c.faces, c.colours, setup, panel_w, panel_h);
     CairoSurface ps(cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(panel.pixels.data()),
                                                         CAIRO_FORMAT_RGB24, panel_w, panel_h, panel_w * 4),
                     &cairo_surface_destroy);

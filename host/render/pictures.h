@@ -1,8 +1,9 @@
 #pragma once
 /// The pictures a designer looks at: render_W.png (energy density), render_alpha.png (fill
 /// ratio) and render_design.png (the cut surface), each a row of standard views with a title
-/// and, for the fields, a labelled colour bar. Drawn with the CPU rasteriser (rasterizer.h);
-/// labels, colour bars and PNG encoding by cairo. Headless: no window system, no GPU.
+/// and, for the fields, a labelled colour bar. The views are drawn by PictureOptions::rasterizer
+/// (rasterizer.h: the CPU twin, or the Vulkan twin offscreen on the --device's context); labels,
+/// colour bars and PNG encoding by cairo. Headless: no window system.
 ///
 /// Energy density follows the paper's figures (Figs. 6, 7): densities around the threshold β
 /// are green, higher red, lower blue. The map is blue → cyan → green (at β) → yellow → red,
@@ -42,6 +43,9 @@ struct PictureOptions {
   /// Leave out views in which the surface is seen edge-on (its box's projected height or width
   /// below 2% of the other), e.g. a flat plate from the front — unless that leaves none.
   bool skip_edge_on_views = true;
+  /// Which twin draws the views: the CPU twin by default; Rasterizer::for_backend(backend) for
+  /// the one `--device` resolved to.
+  Rasterizer rasterizer;
 };
 
 /// A design's (or a simulation's) fields to draw.

@@ -9,6 +9,9 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#if CUTWORK_WITH_VULKAN
+#include "host/render/rasterizer_vk.h"
+#endif
 
 namespace cutwork::render {
 
@@ -33,8 +36,6 @@ View parse_view(std::string_view text) {
 }
 
 namespace {
-
-constexpr int kSupersample = 2;
 
 /// Orthonormal camera axes: `right`, `up` span the picture; `forward` points into the scene.
 struct Camera {
@@ -66,11 +67,9 @@ Camera camera_for(View view) {
   return c;
 }
 
-}  // namespace
-
-Eigen::Vector2d projected_extent(View view, const Eigen::AlignedBox3d& box);
-
-namespace {
+/// a · b summed x, y, z in that order: raster.comp computes the same expression, so the two
+/// twins' projections agree to the bit wherever the device's double arithmetic is IEEE.
+double dot3(const Vec3& a, const Vec3& b) { return a.x() * b.x() + a.y() * b.y() + a.z() * b.z(); }
 
 /// A triangle in supersampled pixel coordinates with its depth and shaded colour.
 struct ScreenTriangle {
@@ -79,34 +78,26 @@ struct ScreenTriangle {
   uint32_t colour;
 };
 
-uint32_t pack(const Rgb& c) {
-  auto byte = [](double v) { return uint32_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); };
-  return 0xFF000000u | (byte(c.r) << 16) | (byte(c.g) << 8) | byte(c.b);
-}
-
+/// Mirrors setup() in raster.comp line by line; change one twin, change the other.
 std::vector<ScreenTriangle> project(const RowMatX3d& V, const RowMatX3i& F, const std::vector<Rgb>& colours,
-                                    const ViewSetup& setup, const Camera& cam, int sw, int sh) {
-  // Scale: the frame box's projected extent fills `fill` of the picture.
-  const Vec3 centre = setup.frame.center();
-  const Eigen::Vector2d extent = projected_extent(setup.view, setup.frame);
-  const double ex = extent.x() / 2, ey = extent.y() / 2;
-  const double scale = setup.fill * std::min(sw / (2 * std::max(ex, 1e-300)), sh / (2 * std::max(ey, 1e-300)));
+                                    const Projection& pr) {
   std::vector<ScreenTriangle> tris(size_t(F.rows()));
   tbb::parallel_for(Eigen::Index(0), F.rows(), [&](Eigen::Index f) {
     ScreenTriangle& t = tris[size_t(f)];
     Vec3 p[3];
     for (int k = 0; k < 3; ++k) {
       p[k] = V.row(F(f, k)).transpose();
-      const Vec3 d = p[k] - centre;
-      t.x[k] = 0.5 * sw + scale * d.dot(cam.right);
-      t.y[k] = 0.5 * sh - scale * d.dot(cam.up);
-      t.z[k] = d.dot(cam.forward);
+      const Vec3 d = p[k] - pr.centre;
+      t.x[k] = 0.5 * pr.sw + pr.scale * dot3(d, pr.right);
+      t.y[k] = 0.5 * pr.sh - pr.scale * dot3(d, pr.up);
+      t.z[k] = dot3(d, pr.forward);
     }
     t.min_y = std::min({t.y[0], t.y[1], t.y[2]});
     t.max_y = std::max({t.y[0], t.y[1], t.y[2]});
-    const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double len = n.norm();
-    const double lambert = len > 0 ? std::abs(n.dot(cam.light)) / len : 0.0;
+    const Vec3 a = p[1] - p[0], b = p[2] - p[0];
+    const Vec3 n(a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x());
+    const double len = std::sqrt(dot3(n, n));
+    const double lambert = len > 0 ? std::abs(dot3(n, pr.light)) / len : 0.0;
     const double shade = 0.35 + 0.65 * lambert;
     const Rgb& c = colours[size_t(f)];
     t.colour = pack({c.r * shade, c.g * shade, c.b * shade});
@@ -114,20 +105,23 @@ std::vector<ScreenTriangle> project(const RowMatX3d& V, const RowMatX3i& F, cons
   return tris;
 }
 
-/// Rasterises every triangle into rows [y0, y1) of the supersampled buffers.
+/// Rasterises every triangle into rows [y0, y1) of the supersampled buffers. Mirrors raster()
+/// in raster.comp.
 void rasterize_band(const std::vector<ScreenTriangle>& tris, int sw, int y0, int y1, std::vector<float>& depth,
                     std::vector<uint32_t>& colour) {
   for (const ScreenTriangle& t : tris) {
     if (t.max_y < y0 || t.min_y >= y1) continue;
     const double area = (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.x[2] - t.x[0]) * (t.y[1] - t.y[0]);
     if (std::abs(area) < 1e-12) continue;
-    const int xa = std::max(0, int(std::floor(std::min({t.x[0], t.x[1], t.x[2]}))));
-    const int xb = std::min(sw - 1, int(std::ceil(std::max({t.x[0], t.x[1], t.x[2]}))));
-    const int ya = std::max(y0, int(std::floor(t.min_y)));
-    const int yb = std::min(y1 - 1, int(std::ceil(t.max_y)));
-    for (int y = ya; y <= yb; ++y) {
+    // The sample box, clamped in double before converting (no integer overflow far off-screen).
+    const double xa = std::max(0.0, std::floor(std::min({t.x[0], t.x[1], t.x[2]})));
+    const double xb = std::min(double(sw - 1), std::ceil(std::max({t.x[0], t.x[1], t.x[2]})));
+    const double ya = std::max(double(y0), std::floor(t.min_y));
+    const double yb = std::min(double(y1 - 1), std::ceil(t.max_y));
+    if (xa > xb || ya > yb) continue;
+    for (int y = int(ya); y <= int(yb); ++y) {
       const double py = y + 0.5;
-      for (int x = xa; x <= xb; ++x) {
+      for (int x = int(xa); x <= int(xb); ++x) {
         const double px = x + 0.5;
         // Barycentric weights from edge functions, signed by the triangle's orientation.
         double w[3];
@@ -147,6 +141,15 @@ void rasterize_band(const std::vector<ScreenTriangle>& tris, int sw, int y0, int
   }
 }
 
+void check_inputs(const RowMatX3d& V, const RowMatX3i& F, const std::vector<Rgb>& colours, int width, int height) {
+  if (width < 1 || height < 1) throw InputError(fmt::format("render: image size {}x{} is empty", width, height));
+  if (colours.size() != size_t(F.rows()))
+    throw InputError(fmt::format("render: {} colours for {} faces", colours.size(), F.rows()));
+  if (!V.allFinite()) throw InputError("render: a vertex coordinate is not finite");
+  if (F.size() > 0 && (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()))
+    throw InputError(fmt::format("render: a face corner is outside the {} vertices", V.rows()));
+}
+
 }  // namespace
 
 Eigen::Vector2d projected_extent(View view, const Eigen::AlignedBox3d& box) {
@@ -161,14 +164,34 @@ Eigen::Vector2d projected_extent(View view, const Eigen::AlignedBox3d& box) {
   return {2 * ex, 2 * ey};
 }
 
+Projection projection_for(const ViewSetup& setup, int width, int height) {
+  const Camera cam = camera_for(setup.view);
+  Projection p;
+  p.sw = width * kSupersample;
+  p.sh = height * kSupersample;
+  // Scale: the frame box's projected extent fills `fill` of the picture.
+  const Eigen::Vector2d extent = projected_extent(setup.view, setup.frame);
+  const double ex = extent.x() / 2, ey = extent.y() / 2;
+  p.scale = setup.fill * std::min(p.sw / (2 * std::max(ex, 1e-300)), p.sh / (2 * std::max(ey, 1e-300)));
+  p.centre = setup.frame.center();
+  p.right = cam.right;
+  p.up = cam.up;
+  p.forward = cam.forward;
+  p.light = cam.light;
+  return p;
+}
+
+uint32_t pack(const Rgb& c) {
+  auto byte = [](double v) { return uint32_t(std::floor(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5)); };
+  return 0xFF000000u | (byte(c.r) << 16) | (byte(c.g) << 8) | byte(c.b);
+}
+
 Image rasterize(const RowMatX3d& vertices, const RowMatX3i& faces, const std::vector<Rgb>& face_colours,
                 const ViewSetup& setup, int width, int height) {
-  if (width < 1 || height < 1) throw InputError(fmt::format("render: image size {}x{} is empty", width, height));
-  if (face_colours.size() != size_t(faces.rows()))
-    throw InputError(fmt::format("render: {} colours for {} faces", face_colours.size(), faces.rows()));
-  const int sw = width * kSupersample, sh = height * kSupersample;
-  const Camera cam = camera_for(setup.view);
-  const std::vector<ScreenTriangle> tris = project(vertices, faces, face_colours, setup, cam, sw, sh);
+  check_inputs(vertices, faces, face_colours, width, height);
+  const Projection pr = projection_for(setup, width, height);
+  const int sw = pr.sw, sh = pr.sh;
+  const std::vector<ScreenTriangle> tris = project(vertices, faces, face_colours, pr);
   std::vector<float> depth(size_t(sw) * size_t(sh), std::numeric_limits<float>::infinity());
   std::vector<uint32_t> colour(depth.size(), pack(setup.background));
   constexpr int kBand = 16;
@@ -192,6 +215,30 @@ Image rasterize(const RowMatX3d& vertices, const RowMatX3i& faces, const std::ve
     }
   });
   return image;
+}
+
+Rasterizer Rasterizer::for_backend(const ComputeBackend& backend) {
+  Rasterizer r;
+  if (backend.kind != ComputeBackend::Kind::Vulkan) return r;
+#if CUTWORK_WITH_VULKAN
+  if (backend.context == nullptr)
+    throw DeviceError("render: a Vulkan backend without a context (make it with select_compute_backend)");
+  r.m_vk = std::make_shared<RasterizerVk>(backend.context);
+  return r;
+#else
+  throw DeviceError("render: this cutwork was built without Vulkan (CUTWORK_WITH_VULKAN=OFF); use --device cpu");
+#endif
+}
+
+Image Rasterizer::rasterize(const RowMatX3d& vertices, const RowMatX3i& faces, const std::vector<Rgb>& face_colours,
+                            const ViewSetup& setup, int width, int height) const {
+#if CUTWORK_WITH_VULKAN
+  if (m_vk) {
+    check_inputs(vertices, faces, face_colours, width, height);
+    return m_vk->rasterize(vertices, faces, face_colours, setup, width, height);
+  }
+#endif
+  return render::rasterize(vertices, faces, face_colours, setup, width, height);
 }
 
 }  // namespace cutwork::render

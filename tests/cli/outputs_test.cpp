@@ -71,6 +71,7 @@ TEST(CliOutputs, DesignWritesParaViewFieldsASolidAndPictures) {
   const auto report = read_json(out / "report.json");
   EXPECT_EQ(report["device"]["requested"], "cpu");
   EXPECT_EQ(report["device"]["reason"], "--device cpu");
+  EXPECT_EQ(report["device"]["render"], "cpu") << "the pictures follow --device";
   const VtpContents vtp = read_vtp_polylines(out / "stencils.vtp");
   EXPECT_EQ(vtp.lines.size(), report["stencils"]["count"].get<size_t>());
   // The solid: checked, written, and its volume is the cut area times the thickness.
@@ -90,9 +91,10 @@ TEST(CliOutputs, DesignWritesParaViewFieldsASolidAndPictures) {
 
   // `cutwork render DIR` draws them again, with other views and sizes, into --out.
   const fs::path again = dir / "again";
-  const auto rr = run_cutwork("render " + out.string() + " --view top,iso --field W,design --size 200x150 --out " +
+  const auto rr = run_cutwork("render " + out.string() + " --view top,iso --field W,design --size 200x150 --device cpu --out " +
                               again.string());
   ASSERT_EQ(rr.exit_code, 0) << rr.err;
+  EXPECT_NE(rr.err.find("(drawn on cpu)"), std::string::npos) << rr.err;
   EXPECT_TRUE(fs::exists(again / "render_W.png"));
   EXPECT_TRUE(fs::exists(again / "render_design.png"));
   EXPECT_FALSE(fs::exists(again / "render_alpha.png"));

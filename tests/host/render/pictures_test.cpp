@@ -10,61 +10,16 @@
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
 #include "host/shapes/shapes.h"
+#include "tests/host/render/render_fixtures.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork::render {
 namespace {
 namespace fs = std::filesystem;
 
-struct BowlFields {
-  SurfaceMesh mesh = generate_shape("bowl", {}, 0.02);
-  Eigen::VectorXd W, alpha;
-  BowlFields() {
-    // A smooth energy density rising with height and a fill ratio varying around the bowl.
-    const Eigen::Index nf = mesh.num_faces();
-    W.resize(nf);
-    alpha.resize(nf);
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      const Vec3 c = (mesh.vertices().row(mesh.faces()(f, 0)) + mesh.vertices().row(mesh.faces()(f, 1)) +
-                      mesh.vertices().row(mesh.faces()(f, 2)))
-                         .transpose() /
-                     3.0;
-      W[f] = 100.0 * (1.0 + 20.0 * c.z());
-      alpha[f] = 0.5 + 0.5 * std::sin(20.0 * c.x());
-    }
-  }
-  DesignFields fields() const {
-    DesignFields d;
-    d.sim_vertices = &mesh.vertices();
-    d.sim_faces = &mesh.faces();
-    d.energy_density = W;
-    d.fill_ratio = alpha;
-    d.beta = 0.6 * W.maxCoeff();
-    d.cut_vertices = &mesh.vertices();
-    d.cut_faces = &mesh.faces();
-    d.title = "bowl";
-    return d;
-  }
-};
-
-struct Stats {
-  double non_white = 0;  ///< fraction of pixels that are not white
-  double mean[3] = {0, 0, 0};
-};
-
-Stats stats(const Image& image) {
-  Stats s;
-  for (uint32_t p : image.pixels) {
-    s.non_white += (p & 0xFFFFFF) != 0xFFFFFF;
-    s.mean[0] += (p >> 16) & 0xFF;
-    s.mean[1] += (p >> 8) & 0xFF;
-    s.mean[2] += p & 0xFF;
-  }
-  const double n = double(image.pixels.size());
-  s.non_white /= n;
-  for (double& m : s.mean) m /= n;
-  return s;
-}
+using test::BowlFields;
+using test::stats;
+using test::Stats;
 
 TEST(Pictures, EnergyColoursFollowThePapersConvention) {
   const double beta = 1000, top = 3000;
@@ -129,39 +84,13 @@ TEST(Pictures, WritePicturesWritesPngsThatReadBack) {
   EXPECT_THROW(draw_picture(bowl.fields(), Field::FillRatio, o), InputError);
 }
 
-// The rasterised energy-density view of the bowl against tests/data/render/bowl_W_iso.png.
-// The panel is cutwork's own rasteriser (no text, no fonts), so it is reproducible across
-// machines up to floating-point rounding at triangle edges: at most 1% of the pixels may differ
-// by more than 8 levels in some channel, and the mean difference must stay below 0.5 levels.
-// CUTWORK_UPDATE_REFERENCE_IMAGES=1 rewrites the reference (then inspect it before committing).
+// The rasterised energy-density view of the bowl against tests/data/render/bowl_W_iso.png, to
+// the tolerance stated at test::expect_matches_reference (rasterizer_vk_test.cpp holds the
+// Vulkan twin's picture to the same reference and tolerance).
 TEST(Pictures, KnownConfigurationMatchesTheStoredReference) {
   const BowlFields bowl;
-  std::vector<Rgb> colours(size_t(bowl.W.size()));
-  const double beta = 0.6 * bowl.W.maxCoeff();
-  for (size_t f = 0; f < colours.size(); ++f) colours[f] = energy_colour(bowl.W[Eigen::Index(f)], beta, bowl.W.maxCoeff());
-  ViewSetup setup;
-  for (Eigen::Index v = 0; v < bowl.mesh.num_vertices(); ++v) setup.frame.extend(bowl.mesh.vertices().row(v).transpose());
-  const Image image = rasterize(bowl.mesh.vertices(), bowl.mesh.faces(), colours, setup, 200, 150);
-  const fs::path reference = test::data_dir() / "render" / "bowl_W_iso.png";
-  if (const char* update = std::getenv("CUTWORK_UPDATE_REFERENCE_IMAGES"); update && std::string(update) == "1")
-    write_file_atomic(reference, encode_png(image));
-  const Image ref = read_png(reference);
-  ASSERT_EQ(ref.width, image.width);
-  ASSERT_EQ(ref.height, image.height);
-  int differing = 0;
-  double total = 0;
-  for (size_t i = 0; i < ref.pixels.size(); ++i) {
-    int worst = 0;
-    for (int shift : {0, 8, 16}) {
-      const int d = std::abs(int((ref.pixels[i] >> shift) & 0xFF) - int((image.pixels[i] >> shift) & 0xFF));
-      worst = std::max(worst, d);
-      total += d;
-    }
-    differing += worst > 8;
-  }
-  EXPECT_LE(differing, int(0.01 * double(ref.pixels.size())));
-  EXPECT_LT(total / (3.0 * double(ref.pixels.size())), 0.5);
-  EXPECT_GT(stats(image).non_white, 0.1) << "the reference must show the bowl";
+  const Image image = rasterize(bowl.mesh.vertices(), bowl.mesh.faces(), bowl.energy_colours(), bowl.iso_setup(), 200, 150);
+  test::expect_matches_reference(image, "bowl_W_iso.png");
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <limits>
+
 #include "host/core/error.h"
 #include "host/shapes/shapes.h"
 
@@ -79,8 +81,32 @@ TEST(Rasterizer, BadInputsAreRejected) {
   ViewSetup setup;
   EXPECT_THROW(rasterize(V, F, {}, setup, 10, 10), InputError);
   EXPECT_THROW(rasterize(V, F, {{1, 1, 1}}, setup, 0, 10), InputError);
+  RowMatX3i out_of_range(1, 3);
+  out_of_range << 0, 1, 3;
+  EXPECT_THROW(rasterize(V, out_of_range, {{1, 1, 1}}, setup, 10, 10), InputError);
+  RowMatX3d not_finite = V;
+  not_finite(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(rasterize(not_finite, F, {{1, 1, 1}}, setup, 10, 10), InputError);
   EXPECT_THROW(parse_view("diagonal"), InputError);
   for (View v : {View::Iso, View::Front, View::Top, View::Side}) EXPECT_EQ(parse_view(to_string(v)), v);
+}
+
+// The interface pictures.cpp draws through: the CPU twin by default and for a CPU backend (the
+// Vulkan twin's parity is tests/host/render/rasterizer_vk_test.cpp).
+TEST(Rasterizer, TheDefaultAndTheCpuBackendDrawWithTheCpuTwin) {
+  const SurfaceMesh bowl = generate_shape("bowl", {}, 0.03);
+  const std::vector<Rgb> colours(size_t(bowl.num_faces()), Rgb{0.3, 0.6, 0.9});
+  ViewSetup setup;
+  for (Eigen::Index v = 0; v < bowl.num_vertices(); ++v) setup.frame.extend(bowl.vertices().row(v).transpose());
+  const Rasterizer plain, cpu = Rasterizer::for_backend(cpu_backend());
+  EXPECT_FALSE(cpu.on_device());
+  EXPECT_EQ(cpu.kind_name(), "cpu");
+  const Image direct = rasterize(bowl.vertices(), bowl.faces(), colours, setup, 80, 60);
+  EXPECT_EQ(plain.rasterize(bowl.vertices(), bowl.faces(), colours, setup, 80, 60).pixels, direct.pixels);
+  EXPECT_EQ(cpu.rasterize(bowl.vertices(), bowl.faces(), colours, setup, 80, 60).pixels, direct.pixels);
+  ComputeBackend no_context;
+  no_context.kind = ComputeBackend::Kind::Vulkan;
+  EXPECT_THROW(Rasterizer::for_backend(no_context), DeviceError) << "a Vulkan backend needs its context";
 }
 
 }  // namespace

@@ -28,13 +28,6 @@
 namespace cutwork::test {
 namespace {
 
-bool is_lavapipe(const vulkan::Context& ctx) {
-  std::string id = ctx.info().name + " " + ctx.info().driver;
-  std::transform(id.begin(), id.end(), id.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return id.find("llvmpipe") != std::string::npos || id.find("lavapipe") != std::string::npos;
-}
-
 /// What the clip kernel saw in `ev`'s last evaluation.
 kernels::ClipInputs clip_inputs(const SurfaceMesh& mesh, const StencilLibrary& lib,
                                 const FillRatioEvaluator& ev) {
@@ -222,12 +215,7 @@ Agreement expect_agreement(const FillRatioEvaluator& tbb, const FillRatioEvaluat
 
 class FillRatioVkTest : public VulkanTest {
  protected:
-  FillRatioOptions vulkan_options() {
-    ComputeBackend backend;
-    backend.kind = ComputeBackend::Kind::Vulkan;
-    backend.context = shared_ctx();
-    return FillRatioOptions::for_backend(backend);
-  }
+  FillRatioOptions vulkan_options() { return FillRatioOptions::for_backend(vulkan_backend(shared_ctx())); }
   bool ieee() { return is_lavapipe(ctx()); }
 };
 

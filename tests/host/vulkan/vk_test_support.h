@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "host/core/error.h"
+#include "host/vulkan/backend.h"
 #include "host/vulkan/context.h"
 
 namespace cutwork::test {
@@ -33,6 +34,23 @@ bool same_bits(std::span<const T> a, std::span<const T> b) {
 template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return same_bits(std::span<const T>(a), std::span<const T>(b));
+}
+
+/// Whether `ctx` runs on Mesa's lavapipe (llvmpipe): IEEE double arithmetic, so the parity tests
+/// demand the CPU twins' bits there.
+inline bool is_lavapipe(const vulkan::Context& ctx) {
+  std::string id = ctx.info().name + " " + ctx.info().driver;
+  std::transform(id.begin(), id.end(), id.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return id.find("llvmpipe") != std::string::npos || id.find("lavapipe") != std::string::npos;
+}
+
+/// A Vulkan ComputeBackend on `ctx`, as select_compute_backend would resolve it (for the
+/// `for_backend` factories of the twins' interfaces).
+inline ComputeBackend vulkan_backend(std::shared_ptr<vulkan::Context> ctx) {
+  ComputeBackend backend;
+  backend.kind = ComputeBackend::Kind::Vulkan;
+  backend.context = std::move(ctx);
+  return backend;
 }
 
 /// Empty when some Vulkan device can be opened; else why not. Probed once per process, without
