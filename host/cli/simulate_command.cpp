@@ -50,8 +50,6 @@ class StencilSurface {
     m_shapes = std::make_unique<StencilLibrary>(scene_stencil_library(scene));
     m_bvh = std::make_unique<FaceBvh>(meshes.base);
   }
-  /// The scene's pattern context (nullptr for the uncut shell).
-  const PatternContext* context() const { return m_context.get(); }
   const FaceBvh& bvh() const { return m_context ? m_context->surface().bvh() : *m_bvh; }
   const StencilLibrary& shapes() const { return m_context ? m_context->shapes() : *m_shapes; }
   const TangentField& field() const {
