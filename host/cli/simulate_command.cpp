@@ -20,8 +20,8 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
-#include "solvers/equilibrium/equilibrium_solver.h"
-#include "solvers/objective/structural_quantities.h"
+#include "host/stencil/frame.h"
+#include "solvers/optimize/stencilled_shell.h"
 #include "solvers/report/simulate_report.h"
 
 namespace cutwork::cli {
@@ -35,33 +35,54 @@ struct SimulateOptions {
   OutputOptions outputs;
 };
 
-/// Fill ratios of a design's stencils.json on the simulation mesh (the scene supplies the shapes
-/// and the orientation field the stencils' angles are measured from).
-Eigen::VectorXd stencil_fill_ratios(const Scene& scene, const SceneMeshes& meshes, const std::string& file,
-                                    const FillRatioOptions& fill, int* count, std::optional<CutSurface>* cut) {
-  const PatternContext ctx(scene, meshes);
+/// What the stenciled shell is built on besides the simulation mesh: the surface the stencils sit
+/// on, their shapes and the tangent field. With a design's stencils that is the scene's pattern
+/// context (its orientation field measures the stencils' angles). The uncut shell places no
+/// stencil, so the scene's shapes on the base mesh with a fixed-axis field stand in, and the
+/// orientation field is not solved.
+class StencilSurface {
+ public:
+  StencilSurface(const Scene& scene, const SceneMeshes& meshes, bool with_stencils) {
+    if (with_stencils) {
+      m_context = std::make_unique<PatternContext>(scene, meshes);
+      return;
+    }
+    m_shapes = std::make_unique<StencilLibrary>(scene_stencil_library(scene));
+    m_bvh = std::make_unique<FaceBvh>(meshes.base);
+  }
+  const FaceBvh& bvh() const { return m_context ? m_context->surface().bvh() : *m_bvh; }
+  const StencilLibrary& shapes() const { return m_context ? m_context->shapes() : *m_shapes; }
+  const TangentField& field() const {
+    return m_context ? static_cast<const TangentField&>(m_context->surface().field()) : m_axis;
+  }
+
+ private:
+  std::unique_ptr<PatternContext> m_context;
+  std::unique_ptr<StencilLibrary> m_shapes;
+  std::unique_ptr<FaceBvh> m_bvh;
+  AxisTangentField m_axis;
+};
+
+/// A design's stencils.json for the scene (`surface` holds its pattern context), set on the
+/// shell: its fill ratios on the simulation mesh. Returns the stencils (the cut needs them).
+std::vector<StencilParams> set_design_stencils(solvers::StencilledShell& shell, const StencilSurface& surface,
+                                               const SceneMeshes& meshes, const std::string& file) {
   const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
-  const StencilsFile sf = read_stencils_json(file, ctx.shapes(), &bounds);
-  *count = int(sf.stencils.size());
-  if (sf.stencils.empty()) return Eigen::VectorXd::Ones(meshes.sim.num_faces());
-  FillRatioOptions o = fill;
-  o.derivatives = false;
-  const FaceBvh sim_bvh(meshes.sim);
-  FillRatioEvaluator eval(ctx.surface().bvh(), sim_bvh, ctx.shapes(), &ctx.surface().field(), o);
-  eval.evaluate(sf.stencils);
+  StencilsFile sf = read_stencils_json(file, surface.shapes(), &bounds);
+  shell.set_stencils(sf.stencils);
+  if (sf.stencils.empty()) return {};
   // The angles are relative to the field's tangent: the scene must give the same field.
   for (size_t i = 0; i < sf.stencils.size(); ++i) {
     const Vec3 stored = sf.axis_x.row(Eigen::Index(i)).transpose();
     if (stored.squaredNorm() == 0) continue;
-    const auto& cs = eval.clip_stencils()[i];
+    const auto& cs = shell.evaluator().clip_stencils()[i];
     const Vec3 axis(cs.axis_x[0], cs.axis_x[1], cs.axis_x[2]);
     if ((axis - stored).norm() > 1e-6)
       throw InputError(fmt::format("{}: /stencils/{}/axis_x: the stencil's axis differs from the one the scene's "
                                    "orientation field gives ({:.3g} apart): this file was made with another scene",
                                    file, i, (axis - stored).norm()));
   }
-  *cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), sf.stencils);  // render_design
-  return eval.alpha();
+  return std::move(sf.stencils);
 }
 
 void run_simulate(const SimulateOptions& opts) {
@@ -73,37 +94,47 @@ void run_simulate(const SimulateOptions& opts) {
   LoadedScene loaded(opts.run, timings);
   const Scene& scene = loaded.scene;
   const SceneMeshes& meshes = loaded.meshes;
-  const LoadCase& load_case = loaded.load_case;
   std::vector<std::string>& notes = loaded.notes;  // told once the run has succeeded
 
+  // The uncut shell (every triangle full), or a design's stencils: p → α → x by StencilledShell.
+  const bool with_stencils = !opts.stencils.empty();
   sw.restart();
-  const solvers::ShellModel model(meshes.sim, scene.material, load_case, scene.mechanics);
-  timings.add("model", sw.seconds());
-
-  solvers::NewtonSettings settings;
-  settings.log = [&notes](const std::string& line) { notes.push_back(line); };
-  solvers::EquilibriumSolver solver(model, settings);
-  timings.add("analysis", solver.analysis_seconds());
-  check_factor_work(scene, meshes, solver.linear_solver().factor_nonzeros());  // before any factorisation
-
-  // The uncut shell (every triangle full), or a design's stencils.
-  Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
-  int stencil_count = 0;
   nlohmann::json device_report = nullptr;
-  std::optional<CutSurface> cut;
   // --device places the stencils' fill ratios and the pictures; an uncut run without pictures needs none.
   std::optional<DeviceChoice> device;
-  if (!opts.stencils.empty() || !opts.outputs.no_render) {
+  FillRatioOptions fill_options;
+  if (with_stencils || !opts.outputs.no_render) {
     device = choose_device(opts.device);
     device_report = device->report;
+    if (with_stencils) fill_options = device->fill;
   }
-  if (!opts.stencils.empty()) {
-    sw.restart();
-    alpha = stencil_fill_ratios(scene, meshes, opts.stencils, device->fill, &stencil_count, &cut);
-    timings.add("fill_ratios", sw.seconds());
-  }
+  fill_options.derivatives = false;
+  const StencilSurface surface(scene, meshes, with_stencils);
+  double fill_seconds = sw.seconds();
+
   sw.restart();
-  const solvers::EquilibriumStats& stats = solver.solve(alpha);
+  solvers::NewtonSettings settings;
+  settings.log = [&notes](const std::string& line) { notes.push_back(line); };
+  solvers::StencilledShell shell(meshes.sim, surface.bvh(), scene.material, scene.mechanics, loaded.load_case,
+                                 surface.shapes(), surface.field(), fill_options, settings);
+  const solvers::ShellModel& model = shell.model();
+  const double analysis_seconds = shell.solver().analysis_seconds();
+  timings.add("model", sw.seconds() - analysis_seconds);
+  timings.add("analysis", analysis_seconds);
+  check_factor_work(scene, meshes, shell.solver().linear_solver().factor_nonzeros());  // before any factorisation
+
+  std::optional<CutSurface> cut;
+  if (with_stencils) {
+    sw.restart();
+    const std::vector<StencilParams> stencils = set_design_stencils(shell, surface, meshes, opts.stencils);
+    if (!stencils.empty())
+      cut = cut_stencils(surface.bvh(), surface.shapes(), surface.field(), stencils);  // render_design
+    fill_seconds += sw.seconds();
+    timings.add("fill_ratios", fill_seconds);
+  }
+  const Eigen::VectorXd& alpha = shell.alpha();
+  sw.restart();
+  const solvers::EquilibriumStats& stats = shell.equilibrate();
   timings.add("equilibrium", sw.seconds());
   timings.add("assembly", stats.assembly_seconds);
   timings.add("factorization", stats.factorization_seconds);
@@ -111,7 +142,7 @@ void run_simulate(const SimulateOptions& opts) {
   timings.add("line_search", stats.line_search_seconds);
 
   sw.restart();
-  const solvers::EquilibriumSummary summary = solvers::summarize_equilibrium(model, solver.positions(), alpha);
+  const solvers::EquilibriumSummary summary = shell.summary();
   timings.add("quantities", sw.seconds());
   timings.add("total", total.seconds());
 
@@ -121,13 +152,13 @@ void run_simulate(const SimulateOptions& opts) {
         "positive definite after {} Newton iterations); lower the loads or stiffen the shell",
         stats.newton_iterations));
 
-  const solvers::FillRatioSource fill{opts.stencils.empty() ? std::string("uncut") : opts.stencils, stencil_count,
+  const solvers::FillRatioSource fill{with_stencils ? opts.stencils : std::string("uncut"), shell.num_stencils(),
                                       &alpha};
   const nlohmann::json report =
-      solvers::simulate_report(scene, meshes, model, solver, stats, summary, fill, timings, device_report);
+      solvers::simulate_report(scene, meshes, model, shell.solver(), stats, summary, fill, timings, device_report);
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
-  const RowMatX3d u = solver.displacements();
+  const RowMatX3d u = shell.solver().displacements();
   const Eigen::VectorXd un = u.rowwise().norm();
   Eigen::VectorXd face_u(model.num_faces());
   for (int f = 0; f < model.num_faces(); ++f) {

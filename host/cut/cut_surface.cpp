@@ -206,17 +206,16 @@ void active_stencils(const CutContext& ctx, int f, std::vector<int>& out) {
     if (ctx.active[size_t(i)]) out.push_back((*ctx.pairs)[size_t(i)].stencil);
 }
 
-/// The cut of base face f. Returns Kept when nothing touches it.
-FaceCut cut_face(const CutContext& ctx, int f) {
-  FaceCut out;
-  if (ctx.covered[size_t(f)]) {
-    out.status = FaceStatus::Removed;
-    return out;
-  }
-  const SurfaceMesh& mesh = *ctx.mesh;
+/// The key of the point that stencil `stencil`'s `feature` makes on face edge k (canonical
+/// orientation, so both faces of the edge make the same key).
+CrossingKey edge_point_key(const FaceFrame& fr, int k, int stencil, int feature) {
+  return CrossingKey{fr.ids[fr.cu[k]], fr.ids[fr.cv[k]], stencil, feature};
+}
 
-  // 1. The stencils to look at: the face's own, then its neighbours' (edge points only).
-  std::vector<StencilView> views;
+/// Step 1 of cut_face: the stencils to look at, the face's own (active, first; their count is
+/// returned) then its neighbours' (edge points only, `edge_mask` naming the shared edges).
+size_t gather_views(const CutContext& ctx, int f, std::vector<StencilView>& views) {
+  const SurfaceMesh& mesh = *ctx.mesh;
   std::vector<int> ids;
   active_stencils(ctx, f, ids);
   for (int s : ids) {
@@ -242,10 +241,11 @@ FaceCut cut_face(const CutContext& ctx, int f) {
       it->edge_mask |= 1 << k;
     }
   }
-  if (views.empty()) return out;
+  return num_active;
+}
 
-  const FaceFrame fr = make_frame(mesh, f);
-  std::vector<LocalVertex>& verts = out.vertices;
+/// The face's three corners as its first local vertices (local index k = corner k).
+void add_corner_vertices(const FaceFrame& fr, std::vector<LocalVertex>& verts) {
   for (int k = 0; k < 3; ++k) {
     LocalVertex v;
     v.kind = LocalVertex::Kind::Base;
@@ -254,153 +254,162 @@ FaceCut cut_face(const CutContext& ctx, int f) {
     v.edge_bits = (1 << k) | (1 << (k == 0 ? 2 : k - 1));
     verts.push_back(v);
   }
-  auto key_of = [&](int k, int stencil, int feature) {
-    return CrossingKey{fr.ids[fr.cu[k]], fr.ids[fr.cv[k]], stencil, feature};
-  };
+}
 
-  // 2. Polygon vertices: canonical sides, which lie on an edge, which lie inside (active only).
-  std::vector<EdgePoint> points;
-  for (StencilView& sv : views) {
-    const kernels::ClipStencil& st = (*ctx.stencils)[size_t(sv.stencil)];
-    const kernels::ClipShape& shape = ctx.shapes->clip_shapes()[size_t(st.shape)];
-    sv.polygon = &ctx.shapes->packed_polygons()[2 * size_t(shape.polygon_offset)];
-    sv.count = shape.polygon_count;
+/// Step 2 of cut_face, for one stencil: its polygon vertices' canonical sides of the face's
+/// edges, which lie on an edge (an edge point, appended to `points`), which are a corner, and
+/// which lie inside the face (an interior vertex, appended to `verts`; active stencils only).
+void classify_polygon_vertices(const CutContext& ctx, const FaceFrame& fr, StencilView& sv,
+                               std::vector<LocalVertex>& verts, std::vector<EdgePoint>& points) {
+  const kernels::ClipStencil& st = (*ctx.stencils)[size_t(sv.stencil)];
+  const kernels::ClipShape& shape = ctx.shapes->clip_shapes()[size_t(st.shape)];
+  sv.polygon = &ctx.shapes->packed_polygons()[2 * size_t(shape.polygon_offset)];
+  sv.count = shape.polygon_count;
+  for (int k = 0; k < 3; ++k) {
+    kernels::project_equidistant(fr.X[k].data(), st.origin, st.axis_x, st.axis_y, st.scale,
+                                 nullptr, nullptr, nullptr, &sv.w[2 * k], nullptr);
+  }
+  sv.side.assign(3 * size_t(sv.count), 0.0);
+  sv.sign.assign(3 * size_t(sv.count), 0);
+  sv.vertex_point.assign(size_t(sv.count), -1);
+  sv.vertex_local.assign(size_t(sv.count), -1);
+  sv.vertex_corner.assign(size_t(sv.count), -1);
+  const double snap = ctx.snap / st.scale;  // δ in the stencil's frame
+  for (int j = 0; j < sv.count; ++j) {
+    const double x = sv.polygon[2 * j], y = sv.polygon[2 * j + 1];
+    // Within 2δ of a corner: that corner (the lowest base vertex if several), alike in every
+    // face around it. 2δ covers the points within δ of an edge and of its end.
+    int corner = -1;
     for (int k = 0; k < 3; ++k) {
-      kernels::project_equidistant(fr.X[k].data(), st.origin, st.axis_x, st.axis_y, st.scale,
-                                   nullptr, nullptr, nullptr, &sv.w[2 * k], nullptr);
+      const double dx = x - sv.w[2 * k], dy = y - sv.w[2 * k + 1];
+      if (dx * dx + dy * dy <= 4.0 * snap * snap &&
+          (corner < 0 || fr.ids[k] < fr.ids[corner]))
+        corner = k;
     }
-    sv.side.assign(3 * size_t(sv.count), 0.0);
-    sv.sign.assign(3 * size_t(sv.count), 0);
-    sv.vertex_point.assign(size_t(sv.count), -1);
-    sv.vertex_local.assign(size_t(sv.count), -1);
-    sv.vertex_corner.assign(size_t(sv.count), -1);
-    const double snap = ctx.snap / st.scale;  // δ in the stencil's frame
-    for (int j = 0; j < sv.count; ++j) {
-      const double x = sv.polygon[2 * j], y = sv.polygon[2 * j + 1];
-      // Within 2δ of a corner: that corner (the lowest base vertex if several), alike in every
-      // face around it. 2δ covers the points within δ of an edge and of its end.
-      int corner = -1;
-      for (int k = 0; k < 3; ++k) {
-        const double dx = x - sv.w[2 * k], dy = y - sv.w[2 * k + 1];
-        if (dx * dx + dy * dy <= 4.0 * snap * snap &&
-            (corner < 0 || fr.ids[k] < fr.ids[corner]))
-          corner = k;
+    sv.vertex_corner[size_t(j)] = int8_t(corner);
+    bool inside = corner < 0;
+    for (int k = 0; k < 3; ++k) {
+      if (!(sv.edge_mask >> k & 1)) continue;
+      const double* wu = &sv.w[2 * fr.cu[k]];
+      const double* wv = &sv.w[2 * fr.cv[k]];
+      const double ex = wv[0] - wu[0], ey = wv[1] - wu[1];
+      const double len2 = ex * ex + ey * ey;
+      const double c = orient2(wu[0], wu[1], wv[0], wv[1], x, y);
+      const double tau = ((x - wu[0]) * ex + (y - wu[1]) * ey) / len2;
+      // On the edge: at one of its ends, or within δ of its line between them. Then its
+      // polygon edges do not cross the edge (sign 0); otherwise the side decides, a zero
+      // counting as positive (beyond the edge's ends: the crossing, if any, is elsewhere).
+      const bool at_end = corner == fr.cu[k] || corner == fr.cv[k];
+      const bool on = at_end || (corner < 0 && std::abs(c) <= snap * std::sqrt(len2) &&
+                                 tau >= 0.0 && tau <= 1.0);
+      const int8_t sgn = on ? 0 : (c >= 0.0 ? 1 : -1);
+      sv.side[3 * size_t(j) + size_t(k)] = c;
+      sv.sign[3 * size_t(j) + size_t(k)] = sgn;
+      inside = inside && fr.sigma[k] * sgn > 0;
+      if (on && !at_end && sv.vertex_point[size_t(j)] < 0) {
+        sv.vertex_point[size_t(j)] = int(points.size());
+        points.push_back({k, tau, edge_point_key(fr, k, sv.stencil, sv.count + j), -1});
       }
-      sv.vertex_corner[size_t(j)] = int8_t(corner);
-      bool inside = corner < 0;
-      for (int k = 0; k < 3; ++k) {
-        if (!(sv.edge_mask >> k & 1)) continue;
-        const double* wu = &sv.w[2 * fr.cu[k]];
-        const double* wv = &sv.w[2 * fr.cv[k]];
-        const double ex = wv[0] - wu[0], ey = wv[1] - wu[1];
-        const double len2 = ex * ex + ey * ey;
-        const double c = orient2(wu[0], wu[1], wv[0], wv[1], x, y);
-        const double tau = ((x - wu[0]) * ex + (y - wu[1]) * ey) / len2;
-        // On the edge: at one of its ends, or within δ of its line between them. Then its
-        // polygon edges do not cross the edge (sign 0); otherwise the side decides, a zero
-        // counting as positive (beyond the edge's ends: the crossing, if any, is elsewhere).
-        const bool at_end = corner == fr.cu[k] || corner == fr.cv[k];
-        const bool on = at_end || (corner < 0 && std::abs(c) <= snap * std::sqrt(len2) &&
-                                   tau >= 0.0 && tau <= 1.0);
-        const int8_t sgn = on ? 0 : (c >= 0.0 ? 1 : -1);
-        sv.side[3 * size_t(j) + size_t(k)] = c;
-        sv.sign[3 * size_t(j) + size_t(k)] = sgn;
-        inside = inside && fr.sigma[k] * sgn > 0;
-        if (on && !at_end && sv.vertex_point[size_t(j)] < 0) {
-          sv.vertex_point[size_t(j)] = int(points.size());
-          points.push_back({k, tau, key_of(k, sv.stencil, sv.count + j), -1});
-        }
-      }
-      if (corner >= 0) {
-        sv.vertex_local[size_t(j)] = corner;
-        continue;
-      }
-      if (!sv.active || !inside) continue;
-      // Barycentrics from the sides: edge k is opposite corner k+2.
-      double lambda[3];
-      for (int k = 0; k < 3; ++k)
-        lambda[k == 0 ? 2 : k - 1] = fr.sigma[k] * sv.side[3 * size_t(j) + size_t(k)];
-      const double sum = lambda[0] + lambda[1] + lambda[2];
-      for (double& l : lambda) l /= sum;
-      LocalVertex v;
-      v.kind = LocalVertex::Kind::Interior;
-      v.position = fr.position(lambda);
-      v.point = fr.point(lambda);
-      sv.vertex_local[size_t(j)] = int(verts.size());
-      verts.push_back(v);
     }
+    if (corner >= 0) {
+      sv.vertex_local[size_t(j)] = corner;
+      continue;
+    }
+    if (!sv.active || !inside) continue;
+    // Barycentrics from the sides: edge k is opposite corner k+2.
+    double lambda[3];
+    for (int k = 0; k < 3; ++k)
+      lambda[k == 0 ? 2 : k - 1] = fr.sigma[k] * sv.side[3 * size_t(j) + size_t(k)];
+    const double sum = lambda[0] + lambda[1] + lambda[2];
+    for (double& l : lambda) l /= sum;
+    LocalVertex v;
+    v.kind = LocalVertex::Kind::Interior;
+    v.position = fr.position(lambda);
+    v.point = fr.point(lambda);
+    sv.vertex_local[size_t(j)] = int(verts.size());
+    verts.push_back(v);
   }
+}
 
-  // 2b. Where active stencils overlap or touch inside the face: a polygon vertex within δ of
-  //     another stencil's polygon vertex is that vertex; within δ of another stencil's polygon
-  //     edge it splits that edge (an extra event on it), so the two outlines meet there instead
-  //     of running a needle's width apart. Inside the face only, so no neighbour is concerned.
-  struct ExtraEvent {
-    int view, edge;
-    double s;
-    int local;
+/// An extra point on polygon edge `edge` of view `view` (step 2b): another stencil's vertex
+/// `local` at parameter s along it.
+struct ExtraEvent {
+  int view, edge;
+  double s;
+  int local;
+};
+
+/// Step 2b of cut_face: where active stencils overlap or touch inside the face, a polygon
+/// vertex within δ of another stencil's polygon vertex is that vertex (`alias`, #verts, and the
+/// view's vertex_local); within δ of another stencil's polygon edge it splits that edge (an
+/// event in `extra`), so the two outlines meet there instead of running a needle's width apart.
+/// Inside the face only, so no neighbour is concerned.
+void snap_overlapping_stencils(const CutContext& ctx, const FaceFrame& fr, size_t num_active,
+                               std::vector<StencilView>& views,
+                               const std::vector<LocalVertex>& verts, std::vector<int>& alias,
+                               std::vector<ExtraEvent>& extra) {
+  struct Inner {
+    int view, j, local;
+    double lambda[3];
   };
-  std::vector<ExtraEvent> extra;
-  std::vector<int> alias(verts.size(), -1);  // a merged polygon vertex: the vertex it is
-  if (num_active > 1) {
-    struct Inner {
-      int view, j, local;
-      double lambda[3];
-    };
-    std::vector<Inner> inner;
-    for (size_t a = 0; a < num_active; ++a) {
-      const StencilView& sv = views[a];
-      for (int j = 0; j < sv.count; ++j) {
-        const int l = sv.vertex_local[size_t(j)];
-        if (l < 3 || verts[size_t(l)].kind != LocalVertex::Kind::Interior) continue;
-        Inner in{int(a), j, l, {}};
-        fr.barycentric(verts[size_t(l)].point.x(), verts[size_t(l)].point.y(), in.lambda);
-        inner.push_back(in);
-      }
+  std::vector<Inner> inner;
+  for (size_t a = 0; a < num_active; ++a) {
+    const StencilView& sv = views[a];
+    for (int j = 0; j < sv.count; ++j) {
+      const int l = sv.vertex_local[size_t(j)];
+      if (l < 3 || verts[size_t(l)].kind != LocalVertex::Kind::Interior) continue;
+      Inner in{int(a), j, l, {}};
+      fr.barycentric(verts[size_t(l)].point.x(), verts[size_t(l)].point.y(), in.lambda);
+      inner.push_back(in);
     }
-    for (size_t p = 0; p < inner.size(); ++p) {
-      Inner& in = inner[p];
-      // Another stencil's vertex (the first one, in view order) within δ: merge into it.
-      for (size_t q = 0; q < p && alias[size_t(in.local)] < 0; ++q) {
-        const Inner& o = inner[q];
-        if (o.view == in.view || alias[size_t(o.local)] >= 0) continue;
-        const Point2& x = verts[size_t(in.local)].point;
-        const Point2& y = verts[size_t(o.local)].point;
-        const double dx = x.x() - y.x(), dy = x.y() - y.y();
-        if (dx * dx + dy * dy <= ctx.snap * ctx.snap) {
-          alias[size_t(in.local)] = o.local;
-          views[size_t(in.view)].vertex_local[size_t(in.j)] = o.local;
-        }
-      }
-    }
-    for (const Inner& in : inner) {
-      if (alias[size_t(in.local)] >= 0) continue;
-      for (size_t b = 0; b < num_active; ++b) {
-        if (int(b) == in.view) continue;
-        const StencilView& ov = views[b];
-        const double snap = ctx.snap / (*ctx.stencils)[size_t(ov.stencil)].scale;
-        const double x = in.lambda[0] * ov.w[0] + in.lambda[1] * ov.w[2] + in.lambda[2] * ov.w[4];
-        const double y = in.lambda[0] * ov.w[1] + in.lambda[1] * ov.w[3] + in.lambda[2] * ov.w[5];
-        for (int j = 0; j < ov.count; ++j) {
-          const int jn = j + 1 == ov.count ? 0 : j + 1;
-          const double ax = ov.polygon[2 * j], ay = ov.polygon[2 * j + 1];
-          const double ex = ov.polygon[2 * jn] - ax, ey = ov.polygon[2 * jn + 1] - ay;
-          const double len2 = ex * ex + ey * ey;
-          const double t = ((x - ax) * ex + (y - ay) * ey) / len2;
-          if (!(t > 0.0 && t < 1.0)) continue;
-          if (std::abs(orient2(ax, ay, ax + ex, ay + ey, x, y)) > snap * std::sqrt(len2)) continue;
-          // Not at the edge's ends (those are vertices: merged above, or on the face's edges).
-          const double along = std::sqrt(len2) * std::min(t, 1.0 - t);
-          if (along <= snap) continue;
-          extra.push_back({int(b), j, t, in.local});
-        }
+  }
+  for (size_t p = 0; p < inner.size(); ++p) {
+    Inner& in = inner[p];
+    // Another stencil's vertex (the first one, in view order) within δ: merge into it.
+    for (size_t q = 0; q < p && alias[size_t(in.local)] < 0; ++q) {
+      const Inner& o = inner[q];
+      if (o.view == in.view || alias[size_t(o.local)] >= 0) continue;
+      const Point2& x = verts[size_t(in.local)].point;
+      const Point2& y = verts[size_t(o.local)].point;
+      const double dx = x.x() - y.x(), dy = x.y() - y.y();
+      if (dx * dx + dy * dy <= ctx.snap * ctx.snap) {
+        alias[size_t(in.local)] = o.local;
+        views[size_t(in.view)].vertex_local[size_t(in.j)] = o.local;
       }
     }
   }
+  for (const Inner& in : inner) {
+    if (alias[size_t(in.local)] >= 0) continue;
+    for (size_t b = 0; b < num_active; ++b) {
+      if (int(b) == in.view) continue;
+      const StencilView& ov = views[b];
+      const double snap = ctx.snap / (*ctx.stencils)[size_t(ov.stencil)].scale;
+      const double x = in.lambda[0] * ov.w[0] + in.lambda[1] * ov.w[2] + in.lambda[2] * ov.w[4];
+      const double y = in.lambda[0] * ov.w[1] + in.lambda[1] * ov.w[3] + in.lambda[2] * ov.w[5];
+      for (int j = 0; j < ov.count; ++j) {
+        const int jn = j + 1 == ov.count ? 0 : j + 1;
+        const double ax = ov.polygon[2 * j], ay = ov.polygon[2 * j + 1];
+        const double ex = ov.polygon[2 * jn] - ax, ey = ov.polygon[2 * jn + 1] - ay;
+        const double len2 = ex * ex + ey * ey;
+        const double t = ((x - ax) * ex + (y - ay) * ey) / len2;
+        if (!(t > 0.0 && t < 1.0)) continue;
+        if (std::abs(orient2(ax, ay, ax + ex, ay + ey, x, y)) > snap * std::sqrt(len2)) continue;
+        // Not at the edge's ends (those are vertices: merged above, or on the face's edges).
+        const double along = std::sqrt(len2) * std::min(t, 1.0 - t);
+        if (along <= snap) continue;
+        extra.push_back({int(b), j, t, in.local});
+      }
+    }
+  }
+}
 
-  // 3. Proper crossings of polygon edges with face edges, from the edge's side only: the
-  //    polygon edge's ends strictly on both sides of the edge's line, the edge's ends on both
-  //    sides of the polygon edge's line (a zero counts as positive, alike in both faces).
+/// Step 3 of cut_face: proper crossings of polygon edges with face edges, from the edge's side
+/// only: the polygon edge's ends strictly on both sides of the edge's line, the edge's ends on
+/// both sides of the polygon edge's line (a zero counts as positive, alike in both faces). Each
+/// makes an edge point (appended to `points`); those of active stencils are returned, grouped by
+/// (view, polygon edge) in order.
+std::vector<FaceCrossing> find_crossings(const FaceFrame& fr, const std::vector<StencilView>& views,
+                                         std::vector<EdgePoint>& points) {
   std::vector<FaceCrossing> crossings;
   for (size_t a = 0; a < views.size(); ++a) {
     const StencilView& sv = views[a];
@@ -422,66 +431,76 @@ FaceCut cut_face(const CutContext& ctx, int f) {
         const double ca = sv.side[3 * size_t(j) + size_t(k)];
         const double cb = sv.side[3 * size_t(jn) + size_t(k)];
         if (sv.active) crossings.push_back({int(a), j, int(points.size()), ca / (ca - cb)});
-        points.push_back({k, tau, key_of(k, sv.stencil, j), -1});
+        points.push_back({k, tau, edge_point_key(fr, k, sv.stencil, j), -1});
       }
     }
   }
-  if (num_active == 0 && points.empty()) return out;
+  return crossings;
+}
 
-  // 4. Vertices on the face's edges: sorted by (τ, key); points within δ of the first of a
-  //    run merge into it, points within δ of an end are that corner. The neighbour sees the
-  //    same points (same stencils on the edge) and the same edge length, so it makes the same
-  //    vertices.
+/// Step 4 of cut_face: the vertices on the face's edges, sorted by (τ, key); points within δ of
+/// the first of a run merge into it, points within δ of an end are that corner. The neighbour
+/// sees the same points (same stencils on the edge) and the same edge length, so it makes the
+/// same vertices. Sets every point's `local` and the views' vertex_local of polygon vertices on
+/// an edge; returns the new vertices of each face edge in canonical order.
+std::array<std::vector<int>, 3> place_edge_points(const CutContext& ctx, const FaceFrame& fr,
+                                                  std::vector<EdgePoint>& points,
+                                                  std::vector<StencilView>& views,
+                                                  std::vector<LocalVertex>& verts) {
   std::array<std::vector<int>, 3> on_edge;  // local vertices in canonical order
-  {
-    double snap_tau[3];  // δ in τ, from the edge's own (canonical) length
-    for (int k = 0; k < 3; ++k) snap_tau[k] = ctx.snap / (fr.X[fr.cv[k]] - fr.X[fr.cu[k]]).norm();
-    std::vector<int> order(points.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
-    std::sort(order.begin(), order.end(), [&](int x, int y) {
-      const EdgePoint& px = points[size_t(x)];
-      const EdgePoint& py = points[size_t(y)];
-      if (px.k != py.k) return px.k < py.k;
-      if (px.tau != py.tau) return px.tau < py.tau;
-      return px.key < py.key;
-    });
-    int run_k = -1, run_local = -1;
-    double run_tau = 0.0;
-    for (int i : order) {
-      EdgePoint& pt = points[size_t(i)];
-      const double tol = snap_tau[pt.k];
-      if (pt.tau <= tol) {
-        pt.local = fr.cu[pt.k];
-      } else if (pt.tau >= 1.0 - tol) {
-        pt.local = fr.cv[pt.k];
-      } else if (run_k == pt.k && pt.tau - run_tau <= tol) {
-        pt.local = run_local;
-      } else {
-        LocalVertex v;
-        v.kind = LocalVertex::Kind::Crossing;
-        v.key = pt.key;
-        v.tau = pt.tau;
-        const double* pu = &fr.p[2 * fr.cu[pt.k]];
-        const double* pv = &fr.p[2 * fr.cv[pt.k]];
-        v.point = Point2(pu[0] + pt.tau * (pv[0] - pu[0]), pu[1] + pt.tau * (pv[1] - pu[1]));
-        v.edge_bits = 1 << pt.k;
-        pt.local = int(verts.size());
-        verts.push_back(v);
-        on_edge[size_t(pt.k)].push_back(pt.local);
-        run_k = pt.k;
-        run_tau = pt.tau;
-        run_local = pt.local;
-      }
+  double snap_tau[3];  // δ in τ, from the edge's own (canonical) length
+  for (int k = 0; k < 3; ++k) snap_tau[k] = ctx.snap / (fr.X[fr.cv[k]] - fr.X[fr.cu[k]]).norm();
+  std::vector<int> order(points.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    const EdgePoint& px = points[size_t(x)];
+    const EdgePoint& py = points[size_t(y)];
+    if (px.k != py.k) return px.k < py.k;
+    if (px.tau != py.tau) return px.tau < py.tau;
+    return px.key < py.key;
+  });
+  int run_k = -1, run_local = -1;
+  double run_tau = 0.0;
+  for (int i : order) {
+    EdgePoint& pt = points[size_t(i)];
+    const double tol = snap_tau[pt.k];
+    if (pt.tau <= tol) {
+      pt.local = fr.cu[pt.k];
+    } else if (pt.tau >= 1.0 - tol) {
+      pt.local = fr.cv[pt.k];
+    } else if (run_k == pt.k && pt.tau - run_tau <= tol) {
+      pt.local = run_local;
+    } else {
+      LocalVertex v;
+      v.kind = LocalVertex::Kind::Crossing;
+      v.key = pt.key;
+      v.tau = pt.tau;
+      const double* pu = &fr.p[2 * fr.cu[pt.k]];
+      const double* pv = &fr.p[2 * fr.cv[pt.k]];
+      v.point = Point2(pu[0] + pt.tau * (pv[0] - pu[0]), pu[1] + pt.tau * (pv[1] - pu[1]));
+      v.edge_bits = 1 << pt.k;
+      pt.local = int(verts.size());
+      verts.push_back(v);
+      on_edge[size_t(pt.k)].push_back(pt.local);
+      run_k = pt.k;
+      run_tau = pt.tau;
+      run_local = pt.local;
     }
   }
   for (StencilView& sv : views)
     for (int j = 0; j < sv.count; ++j)
       if (sv.vertex_point[size_t(j)] >= 0)
         sv.vertex_local[size_t(j)] = points[size_t(sv.vertex_point[size_t(j)])].local;
+  return on_edge;
+}
 
-  // 5. The triangulation: all vertices, the face's boundary split at its edge points, and the
-  //    pieces of the active polygons' edges inside the face.
-  Cdt cdt;
+/// Step 5 of cut_face, first half: every vertex inserted into the triangulation (an aliased one
+/// shares its target's handle) and the face's boundary constrained, split at its edge points.
+/// Returns the handle of each local vertex.
+std::vector<Cdt::Vertex_handle> insert_face_boundary(Cdt& cdt, const FaceFrame& fr,
+                                                     const std::vector<LocalVertex>& verts,
+                                                     const std::vector<int>& alias,
+                                                     const std::array<std::vector<int>, 3>& on_edge) {
   std::vector<Cdt::Vertex_handle> handle(verts.size());
   for (size_t i = 0; i < verts.size(); ++i) {
     if (i < alias.size() && alias[i] >= 0) continue;
@@ -490,12 +509,6 @@ FaceCut cut_face(const CutContext& ctx, int f) {
   }
   for (size_t i = 0; i < alias.size(); ++i)
     if (alias[i] >= 0) handle[i] = handle[size_t(alias[i])];
-  auto constrain = [&](int x, int y) {
-    // Two points of one face edge: that piece of the boundary is constrained already.
-    if (verts[size_t(x)].edge_bits & verts[size_t(y)].edge_bits) return;
-    if (handle[size_t(x)] != handle[size_t(y)])
-      cdt.insert_constraint(handle[size_t(x)], handle[size_t(y)]);
-  };
   for (int k = 0; k < 3; ++k) {
     std::vector<int> chain = on_edge[size_t(k)];
     if (fr.sigma[k] < 0) std::reverse(chain.begin(), chain.end());
@@ -505,6 +518,22 @@ FaceCut cut_face(const CutContext& ctx, int f) {
       if (handle[size_t(chain[i])] != handle[size_t(chain[i + 1])])
         cdt.insert_constraint(handle[size_t(chain[i])], handle[size_t(chain[i + 1])]);
   }
+  return handle;
+}
+
+/// Step 5 of cut_face, second half: the pieces of the active polygons' edges inside the face
+/// constrained, each polygon edge split at its events (its ends inside the face, its crossings
+/// with the face's edges, the extra points of step 2b).
+void constrain_polygon_edges(Cdt& cdt, const FaceFrame& fr, const std::vector<Cdt::Vertex_handle>& handle,
+                             const std::vector<LocalVertex>& verts, const std::vector<StencilView>& views,
+                             size_t num_active, const std::vector<FaceCrossing>& crossings,
+                             const std::vector<EdgePoint>& points, const std::vector<ExtraEvent>& extra) {
+  auto constrain = [&](int x, int y) {
+    // Two points of one face edge: that piece of the boundary is constrained already.
+    if (verts[size_t(x)].edge_bits & verts[size_t(y)].edge_bits) return;
+    if (handle[size_t(x)] != handle[size_t(y)])
+      cdt.insert_constraint(handle[size_t(x)], handle[size_t(y)]);
+  };
   struct Event {
     double s;
     int local;
@@ -551,11 +580,17 @@ FaceCut cut_face(const CutContext& ctx, int f) {
       }
     }
   }
+}
 
-  // 6. Keep the sub-triangles inside the face, not degenerate, and outside every active polygon
-  //    (their centroid decides: constraints separate inside from outside).
+/// Step 6 of cut_face: the sub-triangles inside the face, not degenerate, and outside every
+/// active polygon (their centroid decides: constraints separate inside from outside), appended
+/// to out.faces; a vertex CGAL made where two constraints intersect becomes an interior vertex.
+/// `used` (#out.vertices on return) marks the vertices the kept sub-triangles use.
+void keep_outside_triangles(Cdt& cdt, const FaceFrame& fr, const std::vector<StencilView>& views,
+                            size_t num_active, FaceCut& out, std::vector<char>& used) {
+  std::vector<LocalVertex>& verts = out.vertices;
   const double min_twice_area = kMinAreaFraction * fr.twice_area;
-  std::vector<char> used(verts.size(), 0);
+  used.assign(verts.size(), 0);
   for (auto fit = cdt.finite_faces_begin(); fit != cdt.finite_faces_end(); ++fit) {
     double xy[6];
     for (int i = 0; i < 3; ++i) {
@@ -594,18 +629,22 @@ FaceCut cut_face(const CutContext& ctx, int f) {
     }
     out.faces.push_back(tri);
   }
+}
 
+/// The status of a face whose sub-triangles step 6 kept: Removed when none, Kept when the one
+/// left is the face itself, else Split with the vertices compacted to those the faces use.
+void finish_face_cut(FaceCut& out, const std::vector<char>& used) {
+  std::vector<LocalVertex>& verts = out.vertices;
   if (out.faces.empty()) {
     out.status = FaceStatus::Removed;
     out.vertices.clear();
-    return out;
+    return;
   }
   if (out.faces.size() == 1 && verts.size() == 3) {  // nothing of the face was cut
     out.vertices.clear();
     out.faces.clear();
-    return out;
+    return;
   }
-  // Compact to the vertices the kept sub-triangles use.
   std::vector<int> remap(verts.size(), -1);
   std::vector<LocalVertex> compact;
   for (size_t i = 0; i < verts.size(); ++i) {
@@ -617,56 +656,82 @@ FaceCut cut_face(const CutContext& ctx, int f) {
     for (int& v : tri) v = remap[size_t(v)];
   out.vertices = std::move(compact);
   out.status = FaceStatus::Split;
+}
+
+/// The cut of base face f. Returns Kept when nothing touches it. The steps are the functions
+/// above, numbered as they run.
+FaceCut cut_face(const CutContext& ctx, int f) {
+  FaceCut out;
+  if (ctx.covered[size_t(f)]) {
+    out.status = FaceStatus::Removed;
+    return out;
+  }
+  std::vector<StencilView> views;
+  const size_t num_active = gather_views(ctx, f, views);
+  if (views.empty()) return out;
+
+  const FaceFrame fr = make_frame(*ctx.mesh, f);
+  std::vector<LocalVertex>& verts = out.vertices;
+  add_corner_vertices(fr, verts);
+  std::vector<EdgePoint> points;
+  for (StencilView& sv : views) classify_polygon_vertices(ctx, fr, sv, verts, points);
+
+  std::vector<ExtraEvent> extra;
+  std::vector<int> alias(verts.size(), -1);  // a merged polygon vertex: the vertex it is
+  if (num_active > 1) snap_overlapping_stencils(ctx, fr, num_active, views, verts, alias, extra);
+
+  const std::vector<FaceCrossing> crossings = find_crossings(fr, views, points);
+  if (num_active == 0 && points.empty()) return out;
+  const std::array<std::vector<int>, 3> on_edge = place_edge_points(ctx, fr, points, views, verts);
+
+  Cdt cdt;
+  const std::vector<Cdt::Vertex_handle> handle = insert_face_boundary(cdt, fr, verts, alias, on_edge);
+  constrain_polygon_edges(cdt, fr, handle, verts, views, num_active, crossings, points, extra);
+
+  std::vector<char> used;
+  keep_outside_triangles(cdt, fr, views, num_active, out, used);
+  finish_face_cut(out, used);
   return out;
 }
 
-}  // namespace
-
-CutSurface cut_stencils(const FaceBvh& surface_bvh, const StencilLibrary& shapes,
-                        const TangentField& field, std::span<const StencilParams> stencils) {
-  if (surface_bvh.mesh() == nullptr) throw InputError("cut surface: the BVH has no mesh");
-  const SurfaceMesh& mesh = *surface_bvh.mesh();
-  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
-
-  std::vector<FaceCut> cuts(static_cast<size_t>(nf));
-  if (!stencils.empty()) {
-    FillRatioOptions options;
-    options.derivatives = false;
-    FillRatioEvaluator evaluator(surface_bvh, surface_bvh, shapes, &field, options);
-    evaluator.evaluate(stencils);
-    CutContext ctx;
-    ctx.mesh = &mesh;
-    ctx.shapes = &shapes;
-    ctx.stencils = &evaluator.clip_stencils();
-    ctx.pairs = &evaluator.pairs();
-    const auto& overlaps = evaluator.overlaps();
-    ctx.face_offsets.assign(size_t(nf) + 1, 0);
-    ctx.active.resize(ctx.pairs->size());
-    ctx.covered.assign(size_t(nf), 0);
-    for (size_t i = 0; i < ctx.pairs->size(); ++i) {
-      const int f = (*ctx.pairs)[i].face;
-      const kernels::ClipResult& r = overlaps[i];
-      // Back-facing pairs contribute nothing to α; neither do they cut.
-      ctx.active[i] = r.triangle_area > 0.0 && r.fraction > 0.0;
-      if (ctx.active[i] && r.fraction >= 1.0) ctx.covered[size_t(f)] = 1;
-      ++ctx.face_offsets[size_t(f) + 1];
-    }
-    for (int f = 0; f < nf; ++f) ctx.face_offsets[size_t(f) + 1] += ctx.face_offsets[size_t(f)];
-    double longest = 0.0, shortest = std::numeric_limits<double>::infinity();
-    for (int e = 0; e < mesh.num_edges(); ++e) {
-      const double l = (mesh.vertices().row(mesh.edges()(e, 1)) -
-                        mesh.vertices().row(mesh.edges()(e, 0))).norm();
-      longest = std::max(longest, l);
-      shortest = std::min(shortest, l);
-    }
-    ctx.snap = std::min(kSnapRelative * longest, kSnapMaxRelative * shortest);
-
-    tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
-      for (int f = range.begin(); f != range.end(); ++f) cuts[size_t(f)] = cut_face(ctx, f);
-    });
+/// What every face's cut shares: the stencils and pairs the evaluator made, which pairs cut
+/// (active) and which faces a stencil covers whole, and the snap distance δ of the mesh.
+CutContext make_cut_context(const SurfaceMesh& mesh, const StencilLibrary& shapes,
+                            const FillRatioEvaluator& evaluator) {
+  const int nf = mesh.num_faces();
+  CutContext ctx;
+  ctx.mesh = &mesh;
+  ctx.shapes = &shapes;
+  ctx.stencils = &evaluator.clip_stencils();
+  ctx.pairs = &evaluator.pairs();
+  const auto& overlaps = evaluator.overlaps();
+  ctx.face_offsets.assign(size_t(nf) + 1, 0);
+  ctx.active.resize(ctx.pairs->size());
+  ctx.covered.assign(size_t(nf), 0);
+  for (size_t i = 0; i < ctx.pairs->size(); ++i) {
+    const int f = (*ctx.pairs)[i].face;
+    const kernels::ClipResult& r = overlaps[i];
+    // Back-facing pairs contribute nothing to α; neither do they cut.
+    ctx.active[i] = r.triangle_area > 0.0 && r.fraction > 0.0;
+    if (ctx.active[i] && r.fraction >= 1.0) ctx.covered[size_t(f)] = 1;
+    ++ctx.face_offsets[size_t(f) + 1];
   }
+  for (int f = 0; f < nf; ++f) ctx.face_offsets[size_t(f) + 1] += ctx.face_offsets[size_t(f)];
+  double longest = 0.0, shortest = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const double l = (mesh.vertices().row(mesh.edges()(e, 1)) -
+                      mesh.vertices().row(mesh.edges()(e, 0))).norm();
+    longest = std::max(longest, l);
+    shortest = std::min(shortest, l);
+  }
+  ctx.snap = std::min(kSnapRelative * longest, kSnapMaxRelative * shortest);
+  return ctx;
+}
 
-  // Merge in face order: base vertices, then edge points by key, then interior vertices.
+/// The per-face cuts (#F) merged into one mesh, in face order: base vertices, then edge points
+/// by key (one vertex per key, shared by the edge's two faces), then interior vertices.
+CutSurface merge_face_cuts(const SurfaceMesh& mesh, const std::vector<FaceCut>& cuts) {
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   CutSurface out;
   std::vector<int> base_id(size_t(nv), -1);
   std::vector<std::pair<CrossingKey, double>> edge_points;
@@ -759,6 +824,28 @@ CutSurface cut_stencils(const FaceBvh& surface_bvh, const StencilLibrary& shapes
     out.area += 0.5 * (b - a).cross(c - a).norm();
   }
   return out;
+}
+
+}  // namespace
+
+CutSurface cut_stencils(const FaceBvh& surface_bvh, const StencilLibrary& shapes,
+                        const TangentField& field, std::span<const StencilParams> stencils) {
+  if (surface_bvh.mesh() == nullptr) throw InputError("cut surface: the BVH has no mesh");
+  const SurfaceMesh& mesh = *surface_bvh.mesh();
+  const int nf = mesh.num_faces();
+
+  std::vector<FaceCut> cuts(static_cast<size_t>(nf));
+  if (!stencils.empty()) {
+    FillRatioOptions options;
+    options.derivatives = false;
+    FillRatioEvaluator evaluator(surface_bvh, surface_bvh, shapes, &field, options);
+    evaluator.evaluate(stencils);
+    const CutContext ctx = make_cut_context(mesh, shapes, evaluator);
+    tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
+      for (int f = range.begin(); f != range.end(); ++f) cuts[size_t(f)] = cut_face(ctx, f);
+    });
+  }
+  return merge_face_cuts(mesh, cuts);
 }
 
 }  // namespace cutwork

@@ -36,29 +36,15 @@ Vec3 rotate_about(const Vec3& v, const Vec3& axis, double angle) {
          (1 - std::cos(angle)) * axis.dot(v) * axis;
 }
 
-}  // namespace
-
-void OrientationField::face_basis(int face, Vec3& e1, Vec3& e2) const {
-  const auto f = m_mesh->faces().row(face);
-  const RowMatX3d& V = m_mesh->vertices();
-  e1 = (V.row(f[1]) - V.row(f[0])).transpose().normalized();
-  const Vec3 n = m_mesh->face_normals().row(face).transpose();
-  e2 = n.cross(e1);
-}
-
-OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
-                                   const OrientationFieldOptions& options)
-    : m_mesh(&mesh), m_symmetry(options.symmetry) {
-  if (m_symmetry < 1)
-    throw InputError(fmt::format("orientation field: symmetry must be at least 1 (got {})", m_symmetry));
+/// Stroke constraints c_f (#F, normalised; step 1 of the field): the mean N-th power of the
+/// strokes' directions, in face f's basis (E1, E2), of the faces within the stroke band of a
+/// stroke. Appends the constrained faces, ascending, to `stroke_faces` (crossing strokes that
+/// cancel exactly leave a face unconstrained). Throws InputError for a stroke point off the surface.
+std::vector<Complex> stroke_targets(const SurfaceMesh& mesh, const FaceBvh& bvh,
+                                    const OrientationFieldOptions& options, int N,
+                                    const std::vector<Vec3>& E1, const std::vector<Vec3>& E2,
+                                    std::vector<int>& stroke_faces) {
   const int F = mesh.num_faces();
-  const int N = m_symmetry;
-  const RowMatX3d& V = mesh.vertices();
-
-  std::vector<Vec3> E1(static_cast<size_t>(F)), E2(static_cast<size_t>(F));
-  for (int f = 0; f < F; ++f) face_basis(f, E1[size_t(f)], E2[size_t(f)]);
-
-  // ---- stroke constraints: c_f, the mean N-th power of the strokes' directions in face f.
   std::vector<Complex> target(static_cast<size_t>(F), Complex(0, 0));
   std::vector<int> hits(static_cast<size_t>(F), 0);
   const double diag = (mesh.bbox_max() - mesh.bbox_min()).norm();
@@ -99,11 +85,21 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
     // Crossing strokes that cancel exactly leave the face unconstrained.
     if (mag > 1e-9 * hits[size_t(f)]) {
       target[size_t(f)] /= mag;
-      m_stroke_faces.push_back(f);
+      stroke_faces.push_back(f);
     }
   }
+  return target;
+}
 
-  // ---- connected components (through interior edges); one hard constraint where no stroke is.
+/// Hard constraints (step 2 of the field): in every connected component (through interior
+/// edges) that no stroke touches, the face nearest to the component's centroid is aligned with
+/// the mesh's longest bounding-box axis. Sets `fixed` (#F, 1 for those faces) and their values
+/// u_f in `fixed_value` (#F).
+void anchor_free_components(const SurfaceMesh& mesh, const std::vector<int>& stroke_faces, int N,
+                            const std::vector<Vec3>& E1, const std::vector<Vec3>& E2,
+                            std::vector<int>& fixed, std::vector<Complex>& fixed_value) {
+  const int F = mesh.num_faces();
+  const RowMatX3d& V = mesh.vertices();
   std::vector<int> parent(static_cast<size_t>(F));
   std::iota(parent.begin(), parent.end(), 0);
   const RowMatX2i& EF = mesh.edge_faces();
@@ -112,7 +108,7 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
   std::vector<int> comp(static_cast<size_t>(F));
   for (int f = 0; f < F; ++f) comp[size_t(f)] = find_root(parent, f);
   std::vector<bool> comp_has_stroke(static_cast<size_t>(F), false);
-  for (int f : m_stroke_faces) comp_has_stroke[size_t(comp[size_t(f)])] = true;
+  for (int f : stroke_faces) comp_has_stroke[size_t(comp[size_t(f)])] = true;
 
   // Reference axes, longest bounding-box extent first (ties: x before y before z).
   const Vec3 extent = mesh.bbox_max() - mesh.bbox_min();
@@ -140,8 +136,8 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
       comp_anchor[size_t(c)] = f;
     }
   }
-  std::vector<int> fixed(static_cast<size_t>(F), 0);
-  std::vector<Complex> fixed_value(static_cast<size_t>(F));
+  fixed.assign(static_cast<size_t>(F), 0);
+  fixed_value.assign(static_cast<size_t>(F), Complex());
   for (int c = 0; c < F; ++c) {
     const int f = comp_anchor[size_t(c)];
     if (f < 0) continue;
@@ -154,8 +150,17 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
     fixed[size_t(f)] = 1;
     fixed_value[size_t(f)] = std::polar(1.0, N * angle_in(d, E1[size_t(f)], E2[size_t(f)]));
   }
+}
 
-  // ---- the sparse system in real 2×2 blocks over the free faces.
+/// The smoothness system in real 2×2 blocks over the free faces (step 3 of the field), solved:
+/// u_f (#F) for every face, the fixed faces' values from `fixed_value`.
+std::vector<Complex> solve_smoothness(const SurfaceMesh& mesh, const OrientationFieldOptions& options, int N,
+                                      const std::vector<Vec3>& E1, const std::vector<Vec3>& E2,
+                                      const std::vector<int>& stroke_faces, const std::vector<Complex>& target,
+                                      const std::vector<int>& fixed, const std::vector<Complex>& fixed_value) {
+  const int F = mesh.num_faces();
+  const RowMatX3d& V = mesh.vertices();
+  const RowMatX2i& EF = mesh.edge_faces();
   std::vector<int> var(static_cast<size_t>(F), -1);
   int nvar = 0;
   for (int f = 0; f < F; ++f)
@@ -192,7 +197,7 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
     }
   }
   const double lambda = options.stroke_weight;
-  for (int f : m_stroke_faces) {
+  for (int f : stroke_faces) {
     const int vf = var[size_t(f)];
     if (vf < 0 || !(lambda > 0)) continue;
     add_block(vf, vf, lambda * I);
@@ -210,22 +215,21 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
     if (solver.info() != Eigen::Success || !x.allFinite())
       throw SolveError("orientation field: the smoothness solve failed");
   }
+  std::vector<Complex> u(static_cast<size_t>(F));
+  for (int f = 0; f < F; ++f)
+    u[size_t(f)] = fixed[size_t(f)] ? fixed_value[size_t(f)]
+                                    : Complex(x[2 * var[size_t(f)]], x[2 * var[size_t(f)] + 1]);
+  return u;
+}
 
-  // ---- per-face directions.
-  m_face_dirs.resize(F, 3);
-  m_face_angles.resize(F);
-  for (int f = 0; f < F; ++f) {
-    Complex u = fixed[size_t(f)] ? fixed_value[size_t(f)]
-                                 : Complex(x[2 * var[size_t(f)]], x[2 * var[size_t(f)] + 1]);
-    // A vanishing u sits on a singularity: any direction is as good as another.
-    const double th = std::abs(u) > 1e-12 ? std::arg(u) / N : 0.0;
-    m_face_angles[f] = th;
-    m_face_dirs.row(f) = (std::cos(th) * E1[size_t(f)] + std::sin(th) * E2[size_t(f)]).transpose();
-  }
-
-  // ---- per-vertex representatives.
+/// Per-vertex representatives (step 5 of the field, #V×3): the area-weighted N-th-power average
+/// of the faces' directions `face_dirs` in each vertex's tangent plane; zero rows for
+/// unreferenced vertices.
+RowMatX3d vertex_representatives(const SurfaceMesh& mesh, int N, const std::vector<Vec3>& E1,
+                                 const std::vector<Vec3>& E2, const RowMatX3d& face_dirs) {
+  const int F = mesh.num_faces();
   const int nv = mesh.num_vertices();
-  m_vertex_dirs = RowMatX3d::Zero(nv, 3);
+  RowMatX3d vertex_dirs = RowMatX3d::Zero(nv, 3);
   std::vector<Complex> acc(static_cast<size_t>(nv), Complex(0, 0));
   std::vector<Vec3> ve1(static_cast<size_t>(nv), Vec3::Zero()), ve2(static_cast<size_t>(nv), Vec3::Zero());
   std::vector<int> first_face(static_cast<size_t>(nv), -1);
@@ -240,7 +244,7 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
         ve1[size_t(v)] = e.normalized();
         ve2[size_t(v)] = n.cross(ve1[size_t(v)]);
       }
-      const Vec3 d = m_face_dirs.row(f).transpose();
+      const Vec3 d = face_dirs.row(f).transpose();
       acc[size_t(v)] += mesh.face_areas()[f] *
                         std::polar(1.0, N * angle_in(d, ve1[size_t(v)], ve2[size_t(v)]));
     }
@@ -250,11 +254,54 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
     if (std::abs(acc[size_t(v)]) > 1e-12 * mesh.face_areas().maxCoeff())
       th = std::arg(acc[size_t(v)]) / N;
     else
-      th = angle_in(m_face_dirs.row(first_face[size_t(v)]).transpose(), ve1[size_t(v)], ve2[size_t(v)]);
-    m_vertex_dirs.row(v) = (std::cos(th) * ve1[size_t(v)] + std::sin(th) * ve2[size_t(v)]).transpose();
+      th = angle_in(face_dirs.row(first_face[size_t(v)]).transpose(), ve1[size_t(v)], ve2[size_t(v)]);
+    vertex_dirs.row(v) = (std::cos(th) * ve1[size_t(v)] + std::sin(th) * ve2[size_t(v)]).transpose();
+  }
+  return vertex_dirs;
+}
+
+}  // namespace
+
+void OrientationField::face_basis(int face, Vec3& e1, Vec3& e2) const {
+  const auto f = m_mesh->faces().row(face);
+  const RowMatX3d& V = m_mesh->vertices();
+  e1 = (V.row(f[1]) - V.row(f[0])).transpose().normalized();
+  const Vec3 n = m_mesh->face_normals().row(face).transpose();
+  e2 = n.cross(e1);
+}
+
+OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
+                                   const OrientationFieldOptions& options)
+    : m_mesh(&mesh), m_symmetry(options.symmetry) {
+  if (m_symmetry < 1)
+    throw InputError(fmt::format("orientation field: symmetry must be at least 1 (got {})", m_symmetry));
+  const int F = mesh.num_faces();
+  const int N = m_symmetry;
+
+  std::vector<Vec3> E1(static_cast<size_t>(F)), E2(static_cast<size_t>(F));
+  for (int f = 0; f < F; ++f) face_basis(f, E1[size_t(f)], E2[size_t(f)]);
+
+  // Steps 1–3: stroke targets, one anchor per stroke-free component, the smoothness solve.
+  const std::vector<Complex> target = stroke_targets(mesh, bvh, options, N, E1, E2, m_stroke_faces);
+  std::vector<int> fixed;
+  std::vector<Complex> fixed_value;
+  anchor_free_components(mesh, m_stroke_faces, N, E1, E2, fixed, fixed_value);
+  const std::vector<Complex> u = solve_smoothness(mesh, options, N, E1, E2, m_stroke_faces, target, fixed, fixed_value);
+
+  // ---- 4. per-face directions.
+  m_face_dirs.resize(F, 3);
+  m_face_angles.resize(F);
+  for (int f = 0; f < F; ++f) {
+    // A vanishing u sits on a singularity: any direction is as good as another.
+    const double th = std::abs(u[size_t(f)]) > 1e-12 ? std::arg(u[size_t(f)]) / N : 0.0;
+    m_face_angles[f] = th;
+    m_face_dirs.row(f) = (std::cos(th) * E1[size_t(f)] + std::sin(th) * E2[size_t(f)]).transpose();
   }
 
-  // ---- corner directions, each turned by a multiple of 2π/N towards its face's direction.
+  // ---- 5. per-vertex representatives.
+  m_vertex_dirs = vertex_representatives(mesh, N, E1, E2, m_face_dirs);
+
+  // ---- 6. corner directions, each turned by a multiple of 2π/N towards its face's direction.
   m_corner_dirs.resize(F, 9);
   for (int f = 0; f < F; ++f) {
     const Vec3 df = m_face_dirs.row(f).transpose();

@@ -243,15 +243,19 @@ void check_face_count(std::size_t faces, const std::string& what) {
                                  what, faces, limit));
 }
 
-/// Reads an OBJ text in double precision. All shapes become one surface, faces in file order
-/// (polygons replaced by their triangles); the vertices that faces use are welded by exact
-/// position and numbered in file order.
-SurfaceMesh read_obj(std::string text, const std::string& what) {
-  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);  // a UTF-8 byte order mark
-  const ObjScan scan = scan_obj(text, what);
-  const std::string out_of_range = fmt::format("{}: vertex index out of range", kObjParseError);
-  if (scan.index_out_of_range) obj_fail(what, out_of_range);
+/// tinyobjloader's message on one line (its messages span several).
+std::string one_line(std::string message) {
+  for (char& c : message)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  return message;
+}
 
+/// The triangles tinyobjloader makes of an OBJ text (`scan` is its scan_obj), in file order,
+/// polygons fanned; throws for what tinyobjloader rejects or warns about that concerns the surface.
+std::vector<std::array<int, 3>> tinyobj_triangles(const std::string& text, const ObjScan& scan,
+                                                  const std::string& what) {
+  const std::string out_of_range = fmt::format("{}: vertex index out of range", kObjParseError);
   tinyobj::ObjReader reader;
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
@@ -262,12 +266,6 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
   } catch (const std::exception& e) {
     obj_fail(what, fmt::format("{}: {}", kObjParseError, e.what()));
   }
-  auto one_line = [](std::string message) {
-    for (char& c : message)
-      if (c == '\n' || c == '\r') c = ' ';
-    while (!message.empty() && message.back() == ' ') message.pop_back();
-    return message;
-  };
   if (!reader.Valid() || !reader.Error().empty())
     obj_fail(what, fmt::format("{}: {}", kObjParseError,
                                reader.Error().empty() ? std::string("tinyobjloader failed")
@@ -305,14 +303,20 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
       triangles.push_back(tri);
     }
   }
-  // Each polygon must have given corners − 2 triangles of its own corners (in file order:
-  // triangles and quads always give 1 and 2), each facing like the polygon (its normal by
-  // Newell's method; a self-intersecting polygon may have none). Triangles of exactly zero
-  // area are left to the SurfaceMesh checks, which name them.
-  // A set that fails is the polygon triangulated again by CGAL (triangulate_polygon; concave
-  // polygons, which tinyobjloader gets wrong), checked the same way. A set must also cover the
-  // polygon's (projected) area |Newell normal| / 2 once, and contain no zero-area triangle unless no valid
-  // set avoids one (corners on a line): SurfaceMesh then names the degenerate face.
+  return triangles;
+}
+
+/// Each polygon must have given corners − 2 triangles of its own corners (in file order:
+/// triangles and quads always give 1 and 2), each facing like the polygon (its normal by
+/// Newell's method; a self-intersecting polygon may have none). Triangles of exactly zero
+/// area are left to the SurfaceMesh checks, which name them.
+/// A set that fails is the polygon triangulated again by CGAL (triangulate_polygon; concave
+/// polygons, which tinyobjloader gets wrong), checked the same way, and replaces the set in
+/// `triangles`. A set must also cover the polygon's (projected) area |Newell normal| / 2 once,
+/// and contain no zero-area triangle unless no valid set avoids one (corners on a line):
+/// SurfaceMesh then names the degenerate face.
+void check_polygon_triangles(const ObjScan& scan, std::vector<std::array<int, 3>>& triangles,
+                             const std::string& what) {
   for (const ObjPolygon& polygon : scan.polygons) {
     const int* corners = scan.polygon_corners.data() + polygon.first_corner;
     const int* corners_end = corners + polygon.corners;
@@ -361,9 +365,21 @@ SurfaceMesh read_obj(std::string text, const std::string& what) {
   if (std::int64_t(triangles.size()) != scan.triangles)
     obj_fail(what, fmt::format("{}: the faces give {} triangles, {} expected", kObjParseError,
                                triangles.size(), scan.triangles));
+}
+
+/// Reads an OBJ text in double precision. All shapes become one surface, faces in file order
+/// (polygons replaced by their triangles); the vertices that faces use are welded by exact
+/// position and numbered in file order.
+SurfaceMesh read_obj(std::string text, const std::string& what) {
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);  // a UTF-8 byte order mark
+  const ObjScan scan = scan_obj(text, what);
+  if (scan.index_out_of_range) obj_fail(what, fmt::format("{}: vertex index out of range", kObjParseError));
+  std::vector<std::array<int, 3>> triangles = tinyobj_triangles(text, scan, what);
+  check_polygon_triangles(scan, triangles, what);
 
   // Weld the used vertices by exact position, numbered in file order (a file that cutwork
   // wrote, with every vertex used and distinct, keeps its numbering).
+  const int nv = int(scan.positions.size());
   std::vector<char> used(std::size_t(nv), 0);
   for (const auto& tri : triangles)
     for (int v : tri) used[std::size_t(v)] = 1;

@@ -56,70 +56,80 @@ struct DisjointSets {
 /// sliver thinner than 1e-12 of its length cannot carry a meaningful stiffness either.
 constexpr double kZeroAreaRelative = 1e-12;
 
-}  // namespace
-
-SurfaceMesh::SurfaceMesh(RowMatX3d vertices, RowMatX3i faces, const std::string& what)
-    : m_vertices(std::move(vertices)), m_faces(std::move(faces)) {
-  build(what);
+[[noreturn]] void mesh_fail(const std::string& what, const std::string& problem) {
+  throw InputError(what + ": " + problem);
 }
 
-void SurfaceMesh::build(const std::string& what) {
-  const int nv = num_vertices(), nf = num_faces();
-  auto fail = [&](const std::string& problem) { throw InputError(what + ": " + problem); };
-
-  // ---- validation, cheapest and most basic problems first -------------------------------
-  if (nf == 0) fail("no faces");
+/// The cheapest and most basic problems first: no faces, a non-finite coordinate, an index out
+/// of range, a face that repeats a vertex.
+void check_indices(const RowMatX3d& V, const RowMatX3i& F, const std::string& what) {
+  const int nv = int(V.rows()), nf = int(F.rows());
+  if (nf == 0) mesh_fail(what, "no faces");
   for (int v = 0; v < nv; ++v)
-    if (!m_vertices.row(v).allFinite()) fail(fmt::format("vertex {} has a non-finite coordinate", v));
+    if (!V.row(v).allFinite()) mesh_fail(what, fmt::format("vertex {} has a non-finite coordinate", v));
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k)
-      if (m_faces(f, k) < 0 || m_faces(f, k) >= nv)
-        fail(fmt::format("face {} index {} out of range [0,{})", f, m_faces(f, k), nv));
+      if (F(f, k) < 0 || F(f, k) >= nv)
+        mesh_fail(what, fmt::format("face {} index {} out of range [0,{})", f, F(f, k), nv));
   for (int f = 0; f < nf; ++f) {
-    const int a = m_faces(f, 0), b = m_faces(f, 1), c = m_faces(f, 2);
-    if (a == b || a == c) fail(fmt::format("face {} repeats vertex {}", f, a));
-    if (b == c) fail(fmt::format("face {} repeats vertex {}", f, b));
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    if (a == b || a == c) mesh_fail(what, fmt::format("face {} repeats vertex {}", f, a));
+    if (b == c) mesh_fail(what, fmt::format("face {} repeats vertex {}", f, b));
   }
+}
 
-  m_face_areas.resize(nf);
-  m_face_normals.resize(nf, 3);
-  RowMatX3d weighted(nf, 3);  // 2·area·normal per face, reused for the vertex normals
+/// Face areas (#F) and unit normals (#F×3); throws for a zero-area face. Returns 2·area·normal
+/// per face (#F×3), which the vertex normals reuse.
+RowMatX3d face_geometry(const RowMatX3d& V, const RowMatX3i& F, const std::string& what,
+                        Eigen::VectorXd& areas, RowMatX3d& normals) {
+  const int nf = int(F.rows());
+  areas.resize(nf);
+  normals.resize(nf, 3);
+  RowMatX3d weighted(nf, 3);
   for (int f = 0; f < nf; ++f) {
-    const Vec3 a = m_vertices.row(m_faces(f, 0)), b = m_vertices.row(m_faces(f, 1)),
-               c = m_vertices.row(m_faces(f, 2));
+    const Vec3 a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     const Vec3 n = (b - a).cross(c - a);
     const double twice_area = n.norm();
     const double longest2 =
         std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    if (!(twice_area > kZeroAreaRelative * longest2)) fail(fmt::format("face {} has zero area", f));
-    m_face_areas[f] = 0.5 * twice_area;
-    m_face_normals.row(f) = n / twice_area;
+    if (!(twice_area > kZeroAreaRelative * longest2)) mesh_fail(what, fmt::format("face {} has zero area", f));
+    areas[f] = 0.5 * twice_area;
+    normals.row(f) = n / twice_area;
     weighted.row(f) = n;
   }
+  return weighted;
+}
 
-  {
-    std::unordered_map<TriKey, int, TriKeyHash> seen;
-    seen.reserve(std::size_t(nf) * 2);
-    for (int f = 0; f < nf; ++f) {
-      TriKey key{{m_faces(f, 0), m_faces(f, 1), m_faces(f, 2)}};
-      std::sort(key.v.begin(), key.v.end());
-      auto [it, inserted] = seen.emplace(key, f);
-      if (!inserted) fail(fmt::format("faces {} and {} are duplicates", it->second, f));
-    }
+/// Throws for two faces on the same three vertices (in any order).
+void check_duplicate_faces(const RowMatX3i& F, const std::string& what) {
+  const int nf = int(F.rows());
+  std::unordered_map<TriKey, int, TriKeyHash> seen;
+  seen.reserve(std::size_t(nf) * 2);
+  for (int f = 0; f < nf; ++f) {
+    TriKey key{{F(f, 0), F(f, 1), F(f, 2)}};
+    std::sort(key.v.begin(), key.v.end());
+    auto [it, inserted] = seen.emplace(key, f);
+    if (!inserted) mesh_fail(what, fmt::format("faces {} and {} are duplicates", it->second, f));
   }
+}
 
-  // ---- edges: numbered in order of first appearance (face-major), so the numbering is
-  // deterministic and independent of the hash map's iteration order ---------------------
+/// Edges (#E×2, lower vertex first), their faces (#E×2, −1 for none) and each face's edges
+/// (#F×3, slot k: faces(f,k) → faces(f,k+1)). Edges are numbered in order of first appearance
+/// (face-major), so the numbering is deterministic and independent of the hash map's iteration
+/// order. Throws for an edge of more than two faces.
+void number_edges(const RowMatX3i& F, const std::string& what, RowMatX2i& out_edges,
+                  RowMatX2i& out_edge_faces, RowMatX3i& face_edges) {
+  const int nf = int(F.rows());
   std::unordered_map<std::uint64_t, int> edge_index;
   edge_index.reserve(std::size_t(nf) * 2);
   std::vector<std::array<int, 2>> edges;
   std::vector<std::array<int, 2>> edge_faces;
   std::vector<int> edge_face_count;
   edges.reserve(std::size_t(nf) * 3 / 2 + 3);
-  m_face_edges.resize(nf, 3);
+  face_edges.resize(nf, 3);
   for (int f = 0; f < nf; ++f) {
     for (int k = 0; k < 3; ++k) {
-      const int a = m_faces(f, k), b = m_faces(f, (k + 1) % 3);
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
       auto [it, inserted] = edge_index.emplace(edge_key(a, b), int(edges.size()));
       const int e = it->second;
       if (inserted) {
@@ -130,7 +140,7 @@ void SurfaceMesh::build(const std::string& what) {
         if (edge_face_count[e] == 1) edge_faces[e][1] = f;
         ++edge_face_count[e];
       }
-      m_face_edges(f, k) = e;
+      face_edges(f, k) = e;
     }
   }
   const int ne = int(edges.size());
@@ -139,107 +149,148 @@ void SurfaceMesh::build(const std::string& what) {
     std::string faces_on_edge;  // error path only: a linear scan is fine
     for (int f = 0; f < nf; ++f)
       for (int k = 0; k < 3; ++k)
-        if (m_face_edges(f, k) == e) faces_on_edge += (faces_on_edge.empty() ? "" : ", ") + std::to_string(f);
-    fail(fmt::format("edge ({},{}) is shared by {} faces (non-manifold): faces {}", edges[e][0],
-                     edges[e][1], edge_face_count[e], faces_on_edge));
+        if (face_edges(f, k) == e) faces_on_edge += (faces_on_edge.empty() ? "" : ", ") + std::to_string(f);
+    mesh_fail(what, fmt::format("edge ({},{}) is shared by {} faces (non-manifold): faces {}", edges[e][0],
+                                edges[e][1], edge_face_count[e], faces_on_edge));
   }
 
-  m_edges.resize(ne, 2);
-  m_edge_faces.resize(ne, 2);
+  out_edges.resize(ne, 2);
+  out_edge_faces.resize(ne, 2);
   for (int e = 0; e < ne; ++e) {
-    m_edges(e, 0) = edges[e][0], m_edges(e, 1) = edges[e][1];
-    m_edge_faces(e, 0) = edge_faces[e][0], m_edge_faces(e, 1) = edge_faces[e][1];
+    out_edges(e, 0) = edges[e][0], out_edges(e, 1) = edges[e][1];
+    out_edge_faces(e, 0) = edge_faces[e][0], out_edge_faces(e, 1) = edge_faces[e][1];
   }
+}
 
-  // Local slot k of edge e in face f (the edge runs faces(f,k) -> faces(f,k+1)).
-  auto slot_of = [&](int f, int e) {
-    for (int k = 0; k < 3; ++k)
-      if (m_face_edges(f, k) == e) return k;
-    return -1;  // unreachable: e is an edge of f by construction
-  };
+/// Local slot k of edge e in face f (the edge runs faces(f,k) -> faces(f,k+1)).
+int edge_slot(const RowMatX3i& face_edges, int f, int e) {
+  for (int k = 0; k < 3; ++k)
+    if (face_edges(f, k) == e) return k;
+  return -1;  // unreachable: e is an edge of f by construction
+}
 
-  // ---- orientation and hinges ------------------------------------------------------------
-  m_hinges.clear();
-  m_hinges.reserve(ne);
+/// One hinge per interior edge; throws where the two faces of an edge are not oriented
+/// consistently.
+std::vector<Hinge> make_hinges(const RowMatX3i& F, const RowMatX3i& face_edges, const RowMatX2i& edge_faces,
+                               const std::string& what) {
+  const int ne = int(edge_faces.rows());
+  std::vector<Hinge> hinges;
+  hinges.reserve(ne);
   for (int e = 0; e < ne; ++e) {
-    const int f0 = m_edge_faces(e, 0), f1 = m_edge_faces(e, 1);
+    const int f0 = edge_faces(e, 0), f1 = edge_faces(e, 1);
     if (f1 < 0) continue;
-    const int k0 = slot_of(f0, e), k1 = slot_of(f1, e);
+    const int k0 = edge_slot(face_edges, f0, e), k1 = edge_slot(face_edges, f1, e);
     Hinge h;
     h.edge = e;
     h.face[0] = f0, h.face[1] = f1;
-    h.v[0] = m_faces(f0, k0);
-    h.v[1] = m_faces(f0, (k0 + 1) % 3);
-    h.v[2] = m_faces(f0, (k0 + 2) % 3);
+    h.v[0] = F(f0, k0);
+    h.v[1] = F(f0, (k0 + 1) % 3);
+    h.v[2] = F(f0, (k0 + 2) % 3);
     // A consistently oriented neighbour walks the shared edge the other way: v1 -> v0.
-    if (m_faces(f1, k1) != h.v[1])
-      fail(fmt::format("faces {} and {} both use edge {}->{} in the same direction (inconsistent "
-                       "orientation; flip one of them)",
-                       f0, f1, h.v[0], h.v[1]));
-    h.v[3] = m_faces(f1, (k1 + 2) % 3);
-    m_hinges.push_back(h);
+    if (F(f1, k1) != h.v[1])
+      mesh_fail(what, fmt::format("faces {} and {} both use edge {}->{} in the same direction (inconsistent "
+                                  "orientation; flip one of them)",
+                                  f0, f1, h.v[0], h.v[1]));
+    h.v[3] = F(f1, (k1 + 2) % 3);
+    hinges.push_back(h);
   }
+  return hinges;
+}
 
-  // ---- boundary loops: each boundary edge is used by its face as a → b with the surface on
-  // the left, so chaining those directed edges gives loops oriented like the faces. At a
-  // vertex where several boundary fans meet (a "bowtie") the successor is found by turning
-  // around the vertex inside the fan of the incoming edge, which keeps every loop simple.
-  m_boundary_loops.clear();
-  m_is_boundary_vertex.assign(nv, false);
+/// Boundary loops: each boundary edge is used by its face as a → b with the surface on the
+/// left, so chaining those directed edges gives loops oriented like the faces. At a vertex where
+/// several boundary fans meet (a "bowtie") the successor is found by turning around the vertex
+/// inside the fan of the incoming edge, which keeps every loop simple. Marks the loops' vertices
+/// in `is_boundary_vertex` (#V).
+std::vector<std::vector<int>> trace_boundary_loops(const RowMatX3i& F, const RowMatX3i& face_edges,
+                                                   const RowMatX2i& edge_faces, int nv,
+                                                   std::vector<bool>& is_boundary_vertex) {
+  const int nf = int(F.rows()), ne = int(edge_faces.rows());
+  std::vector<std::vector<int>> loops;
+  is_boundary_vertex.assign(nv, false);
   std::vector<bool> used(ne, false);
   for (int e0 = 0; e0 < ne; ++e0) {
-    if (m_edge_faces(e0, 1) >= 0 || used[e0]) continue;
+    if (edge_faces(e0, 1) >= 0 || used[e0]) continue;
     std::vector<int> loop;
     int e = e0;
-    int f = m_edge_faces(e, 0);
-    int k = slot_of(f, e);
+    int f = edge_faces(e, 0);
+    int k = edge_slot(face_edges, f, e);
     while (!used[e]) {
       used[e] = true;
-      loop.push_back(m_faces(f, k));
-      m_is_boundary_vertex[m_faces(f, k)] = true;
+      loop.push_back(F(f, k));
+      is_boundary_vertex[F(f, k)] = true;
       // The edge leaving b = faces(f, k+1) inside f is slot j = k+1; rotate across interior
       // edges until a boundary edge leaving b is found.
-      const int b = m_faces(f, (k + 1) % 3);
+      const int b = F(f, (k + 1) % 3);
       int j = (k + 1) % 3;
       for (int guard = 0; guard <= nf; ++guard) {
-        const int ej = m_face_edges(f, j);
-        const int g = m_edge_faces(ej, 0) == f ? m_edge_faces(ej, 1) : m_edge_faces(ej, 0);
+        const int ej = face_edges(f, j);
+        const int g = edge_faces(ej, 0) == f ? edge_faces(ej, 1) : edge_faces(ej, 0);
         if (g < 0) break;
         f = g;
         j = 0;
-        while (m_faces(f, j) != b) ++j;
+        while (F(f, j) != b) ++j;
       }
-      e = m_face_edges(f, j);
+      e = face_edges(f, j);
       k = j;
     }
-    m_boundary_loops.push_back(std::move(loop));
+    loops.push_back(std::move(loop));
   }
+  return loops;
+}
 
-  // ---- vertex normals (area-weighted), components -----------------------------------------
-  m_vertex_normals = RowMatX3d::Zero(nv, 3);
+/// Area-weighted vertex normals (#V×3) from 2·area·normal per face (`weighted`); zero for an
+/// unreferenced vertex, a face normal where the incident faces cancel out.
+RowMatX3d area_weighted_vertex_normals(const RowMatX3i& F, const RowMatX3d& weighted, const RowMatX3d& face_normals, int nv) {
+  const int nf = int(F.rows());
+  RowMatX3d normals = RowMatX3d::Zero(nv, 3);
   std::vector<int> first_face(nv, -1);
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
-      const int v = m_faces(f, k);
-      m_vertex_normals.row(v) += weighted.row(f);
+      const int v = F(f, k);
+      normals.row(v) += weighted.row(f);
       if (first_face[v] < 0) first_face[v] = f;
     }
   for (int v = 0; v < nv; ++v) {
-    const double len = m_vertex_normals.row(v).norm();
+    const double len = normals.row(v).norm();
     if (first_face[v] < 0)
       continue;  // unreferenced: no normal (left zero)
     else if (len > 1e-300)
-      m_vertex_normals.row(v) /= len;
+      normals.row(v) /= len;
     else  // the incident faces cancel out (a pinched apex): fall back to one of them
-      m_vertex_normals.row(v) = m_face_normals.row(first_face[v]);
+      normals.row(v) = face_normals.row(first_face[v]);
   }
+  return normals;
+}
 
+/// Connected components of the faces through interior edges.
+int count_components(const RowMatX2i& edge_faces, int nf) {
   DisjointSets sets(nf);
-  for (int e = 0; e < ne; ++e)
-    if (m_edge_faces(e, 1) >= 0) sets.unite(m_edge_faces(e, 0), m_edge_faces(e, 1));
-  m_num_components = 0;
+  for (int e = 0; e < int(edge_faces.rows()); ++e)
+    if (edge_faces(e, 1) >= 0) sets.unite(edge_faces(e, 0), edge_faces(e, 1));
+  int components = 0;
   for (int f = 0; f < nf; ++f)
-    if (sets.find(f) == f) ++m_num_components;
+    if (sets.find(f) == f) ++components;
+  return components;
+}
+
+}  // namespace
+
+SurfaceMesh::SurfaceMesh(RowMatX3d vertices, RowMatX3i faces, const std::string& what)
+    : m_vertices(std::move(vertices)), m_faces(std::move(faces)) {
+  build(what);
+}
+
+void SurfaceMesh::build(const std::string& what) {
+  const int nv = num_vertices(), nf = num_faces();
+  check_indices(m_vertices, m_faces, what);
+  const RowMatX3d weighted = face_geometry(m_vertices, m_faces, what, m_face_areas, m_face_normals);
+  check_duplicate_faces(m_faces, what);
+  number_edges(m_faces, what, m_edges, m_edge_faces, m_face_edges);
+  m_hinges = make_hinges(m_faces, m_face_edges, m_edge_faces, what);
+  m_boundary_loops = trace_boundary_loops(m_faces, m_face_edges, m_edge_faces, nv, m_is_boundary_vertex);
+  m_vertex_normals = area_weighted_vertex_normals(m_faces, weighted, m_face_normals, nv);
+  m_num_components = count_components(m_edge_faces, nf);
 }
 
 double SurfaceMesh::mean_edge_length() const {

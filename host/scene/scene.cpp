@@ -20,10 +20,59 @@ namespace {
 
 constexpr double kInf = INFINITY;
 
-const std::vector<std::string>& entity_names() {
-  static const std::vector<std::string> names{"vertices", "boundary_vertices", "edges",
-                                              "boundary_edges", "faces"};
+/// A JSON name and the enum value it stands for. The tables below list the names in the order
+/// error messages offer them; the mapping never depends on an enum's numbering.
+template <class E>
+struct NamedValue {
+  const char* name;
+  E value;
+};
+
+constexpr NamedValue<Entity> kEntities[] = {{"vertices", Entity::Vertices},
+                                            {"boundary_vertices", Entity::BoundaryVertices},
+                                            {"edges", Entity::Edges},
+                                            {"boundary_edges", Entity::BoundaryEdges},
+                                            {"faces", Entity::Faces}};
+constexpr NamedValue<LoadKind> kLoadKinds[] = {{"point", LoadKind::Point},
+                                               {"edge", LoadKind::Edge},
+                                               {"area", LoadKind::Area},
+                                               {"pressure", LoadKind::Pressure},
+                                               {"self_weight", LoadKind::SelfWeight}};
+constexpr NamedValue<StructuralObjective> kStructuralObjectives[] = {
+    {"none", StructuralObjective::None},
+    {"energy_density", StructuralObjective::EnergyDensity},
+    {"adaptive", StructuralObjective::Adaptive},
+    {"compliance", StructuralObjective::Compliance}};
+const std::vector<std::string> kSupportTypes{"pinned", "clamped"};
+
+/// The names of a table, in its order (what a reader accepts).
+template <class E, size_t N>
+std::vector<std::string> names_of(const NamedValue<E> (&table)[N]) {
+  std::vector<std::string> names;
+  for (const NamedValue<E>& entry : table) names.emplace_back(entry.name);
   return names;
+}
+
+/// The name of `value` in `table` (every enumerator has one).
+template <class E, size_t N>
+std::string name_of(const NamedValue<E> (&table)[N], E value) {
+  for (const NamedValue<E>& entry : table)
+    if (entry.value == value) return entry.name;
+  throw Error("scene: an enumerator without a name in its table");
+}
+
+/// The value named `name` in `table`; `name` was accepted by a reader given names_of(table).
+template <class E, size_t N>
+E value_of(const NamedValue<E> (&table)[N], const std::string& name) {
+  for (const NamedValue<E>& entry : table)
+    if (name == entry.name) return entry.value;
+  throw Error("scene: '" + name + "' is not in its table");
+}
+
+/// The optional member `key` of `r`, one of the names of `table` (`fallback` when absent).
+template <class E, size_t N>
+E read_named(JsonObjectReader& r, const std::string& key, E fallback, const NamedValue<E> (&table)[N]) {
+  return value_of(table, r.string(key, name_of(table, fallback), names_of(table)));
 }
 
 const std::vector<std::string>& exemplar_names() {
@@ -32,15 +81,10 @@ const std::vector<std::string>& exemplar_names() {
   return names;
 }
 
-Entity entity_from(const std::string& s) {
-  const auto& n = entity_names();
-  return Entity(std::find(n.begin(), n.end(), s) - n.begin());
-}
-
 Selector parse_selector(JsonObjectReader r, Entity default_entity) {
   Selector sel;
   sel.json_path = r.path();
-  sel.entity = entity_from(r.string("entity", entity_names()[int(default_entity)], entity_names()));
+  sel.entity = read_named(r, "entity", default_entity, kEntities);
   const char* axes[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
     if (!r.has(axes[k])) {
@@ -75,7 +119,7 @@ Selector parse_selector(JsonObjectReader r, Entity default_entity) {
 nlohmann::ordered_json selector_to_json(const Selector& s) {
   using json = nlohmann::ordered_json;
   json j;
-  j["entity"] = entity_names()[int(s.entity)];
+  j["entity"] = name_of(kEntities, s.entity);
   const char* axes[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
     json a = json::object();
@@ -93,9 +137,263 @@ nlohmann::ordered_json selector_to_json(const Selector& s) {
 
 nlohmann::ordered_json vec3_json(const Vec3& v) { return nlohmann::ordered_json::array({v[0], v[1], v[2]}); }
 
-const std::vector<std::string> kLoadTypes{"point", "edge", "area", "pressure", "self_weight"};
-const std::vector<std::string> kSupportTypes{"pinned", "clamped"};
-const std::vector<std::string> kStructuralObjectives{"none", "energy_density", "adaptive", "compliance"};
+// ---- the sections of a scene, one function each (parse_scene calls them in file order)
+
+/// /mesh: a built-in generator with its parameters, or a mesh file (relative to `base_dir`).
+MeshSpec parse_mesh_section(JsonObjectReader& root, const fs::path& base_dir) {
+  MeshSpec mesh;
+  JsonObjectReader m = root.object("mesh");
+  if (!root.has("mesh")) root.fail("mesh", "is required: {\"generator\": NAME} or {\"file\": PATH}");
+  const bool has_gen = m.has("generator"), has_file = m.has("file");
+  if (has_gen == has_file) m.fail("", "needs exactly one of 'generator' or 'file'");
+  if (has_gen) {
+    std::vector<std::string> names;
+    for (const auto& s : builtin_shapes()) names.push_back(s.name);
+    mesh.generator = m.string("generator", "", names);
+    const ShapeInfo* info = find_shape(mesh.generator);
+    JsonObjectReader p = m.object("params");
+    for (const auto& [key, def] : info->defaults)
+      mesh.params[key] = p.number(key, def, -kInf, kInf);
+    p.finish();  // unknown parameters named with the accepted ones; ranges checked by shapes
+    mesh.edge_length = m.number("edge_length", info->base_edge_length, 0, kInf, true);
+    mesh.sim_edge_length = m.number("sim_edge_length", info->sim_edge_length, 0, kInf);
+  } else {
+    const std::string f = m.string("file", "");
+    if (f.empty()) m.fail("file", "must name a mesh file");
+    fs::path p(f);
+    mesh.file = p.is_absolute() || base_dir.empty() ? p : base_dir / p;
+    if (!is_mesh_file(mesh.file))
+      m.fail("file", "'" + f + "' is not a mesh file (accepted: .obj .ply .off .stl)");
+    mesh.sim_edge_length = 0;
+  }
+  m.finish();
+  return mesh;
+}
+
+/// /material: the shell's elastic constants, thickness and density.
+Material parse_material_section(JsonObjectReader& root) {
+  JsonObjectReader m = root.object("material");
+  const Material d;
+  Material material;
+  material.youngs_modulus = m.number("youngs_modulus", d.youngs_modulus, 0, 1e13, true);
+  material.poisson_ratio = m.number("poisson_ratio", d.poisson_ratio, 0, 0.5, false, true);
+  material.thickness = m.number("thickness", d.thickness, 0, 10, true);
+  material.density = m.number("density", d.density, 0, 1e5);
+  m.finish();
+  return material;
+}
+
+/// /mechanics: the bending model.
+MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
+  MechanicsSettings mechanics;
+  JsonObjectReader m = root.object("mechanics");
+  const std::string bending = m.string("bending", "shape_operator", {"shape_operator", "hinge"});
+  mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
+  m.finish();
+  return mechanics;
+}
+
+/// /supports: pinned or clamped vertex selections.
+std::vector<SupportSpec> parse_supports_section(JsonObjectReader& root, const std::string& origin) {
+  std::vector<SupportSpec> supports;
+  const json& arr = root.array("supports");
+  for (size_t i = 0; i < arr.size(); ++i) {
+    JsonObjectReader s(arr[i], origin, "/supports/" + std::to_string(i));
+    SupportSpec spec;
+    spec.kind = s.string("type", "pinned", kSupportTypes) == "clamped" ? SupportKind::Clamped
+                                                                        : SupportKind::Pinned;
+    if (!s.has("select")) s.fail("select", "is required: which vertices are supported");
+    spec.select = parse_selector(s.object("select"), Entity::Vertices);
+    s.finish();
+    supports.push_back(spec);
+  }
+  return supports;
+}
+
+/// One entry of /loads: self-weight, or a force or pressure on the entities its selector picks
+/// (which must be of the kind the load acts on).
+LoadSpec parse_load(JsonObjectReader& l) {
+  LoadSpec spec;
+  const std::string type = l.required_string("type", names_of(kLoadKinds));
+  spec.kind = value_of(kLoadKinds, type);
+  if (spec.kind == LoadKind::SelfWeight) {
+    spec.gravity = l.vec3("gravity", Vec3(0, 0, -9.81));
+    return spec;
+  }
+  const Entity def = spec.kind == LoadKind::Point  ? Entity::Vertices
+                     : spec.kind == LoadKind::Edge ? Entity::BoundaryEdges
+                                                   : Entity::Faces;
+  if (spec.kind == LoadKind::Pressure)
+    spec.pressure = l.required_number("pressure", -kInf, kInf);
+  else
+    spec.force = l.required_vec3("force");
+  if (!l.has("select")) l.fail("select", "is required: where the load acts");
+  spec.select = parse_selector(l.object("select"), def);
+  const bool edge_entity = spec.select.entity == Entity::Edges || spec.select.entity == Entity::BoundaryEdges;
+  const bool face_entity = spec.select.entity == Entity::Faces;
+  if (spec.kind == LoadKind::Edge && !edge_entity)
+    l.fail("select", "an edge load selects 'edges' or 'boundary_edges'");
+  if ((spec.kind == LoadKind::Area || spec.kind == LoadKind::Pressure) && !face_entity)
+    l.fail("select", "an " + type + " load selects 'faces'");
+  if (spec.kind == LoadKind::Point && (edge_entity || face_entity))
+    l.fail("select", "a point load selects 'vertices' or 'boundary_vertices'");
+  return spec;
+}
+
+/// /loads.
+std::vector<LoadSpec> parse_loads_section(JsonObjectReader& root, const std::string& origin) {
+  std::vector<LoadSpec> loads;
+  const json& arr = root.array("loads");
+  for (size_t i = 0; i < arr.size(); ++i) {
+    JsonObjectReader l(arr[i], origin, "/loads/" + std::to_string(i));
+    LoadSpec spec = parse_load(l);
+    l.finish();
+    loads.push_back(spec);
+  }
+  return loads;
+}
+
+/// /stencils: the stencil shapes, each a built-in kind with parameters or a polygon, validated
+/// by the stencil library itself.
+std::vector<StencilShapeSpec> parse_stencils_section(JsonObjectReader& root, const std::string& origin) {
+  std::vector<StencilShapeSpec> shapes;
+  const json& arr = root.array("stencils");
+  for (size_t i = 0; i < arr.size(); ++i) {
+    const std::string path = "/stencils/" + std::to_string(i);
+    JsonObjectReader s(arr[i], origin, path);
+    StencilShapeSpec spec;
+    spec.kind = s.string("kind", "circle");
+    spec.name = s.string("name", spec.kind);
+    for (const auto& other : shapes)
+      if (other.name == spec.name) s.fail("name", "duplicate stencil name '" + spec.name + "'");
+    if (spec.kind == "polygon") {
+      const json& pts = s.array("polygon");
+      for (size_t k = 0; k < pts.size(); ++k) {
+        const std::string pp = path + "/polygon/" + std::to_string(k);
+        if (!pts[k].is_array() || pts[k].size() != 2 || !pts[k][0].is_number() || !pts[k][1].is_number())
+          throw InputError(origin + ": " + pp + ": expected [x, y]");
+        spec.polygon.emplace_back(pts[k][0].get<double>(), pts[k][1].get<double>());
+      }
+    } else if (s.has("params")) {
+      JsonObjectReader p = s.object("params");
+      for (auto it = arr[i]["params"].begin(); it != arr[i]["params"].end(); ++it)
+        spec.params[it.key()] = p.number(it.key(), 0, -kInf, kInf);
+      p.finish();
+    } else {
+      s.child("params");
+    }
+    s.finish();
+    // Shape kinds and their parameters are validated by the stencil library itself.
+    try {
+      if (spec.kind == "polygon")
+        make_polygon_stencil(spec.name, spec.polygon);
+      else
+        make_builtin_stencil(spec.kind, spec.params, spec.name);
+    } catch (const InputError& e) {
+      throw InputError(origin + ": " + path + ": " + e.what());
+    }
+    shapes.push_back(spec);
+  }
+  return shapes;
+}
+
+/// /pattern/brushes and /pattern/strokes: the sizing brushes and the sketch strokes.
+void parse_brushes_and_strokes(JsonObjectReader& p, const std::string& origin, PatternSettings& o) {
+  const json& brushes = p.array("brushes");
+  for (size_t i = 0; i < brushes.size(); ++i) {
+    JsonObjectReader b(brushes[i], origin, p.path_of("brushes") + "/" + std::to_string(i));
+    SizingBrush br;
+    br.center = b.required_vec3("center");
+    br.radius = b.required_number("radius", 0, kInf, true);
+    br.value = b.required_number("value", 0, kInf, true);
+    b.finish();
+    o.brushes.push_back(br);
+  }
+  const json& strokes = p.array("strokes");
+  for (size_t i = 0; i < strokes.size(); ++i) {
+    const std::string sp = p.path_of("strokes") + "/" + std::to_string(i);
+    if (!strokes[i].is_array() || strokes[i].size() < 2)
+      throw InputError(origin + ": " + sp + ": a stroke is an array of at least 2 points [x, y, z]");
+    SketchStroke st;
+    for (size_t k = 0; k < strokes[i].size(); ++k)
+      st.points.push_back(json_to_vec3(strokes[i][k], origin, sp + "/" + std::to_string(k)));
+    o.strokes.push_back(st);
+  }
+}
+
+/// /pattern: the pattern objective (packing or an exemplar), its weights, sizing and sketch.
+PatternSettings parse_pattern_section(JsonObjectReader& root, const std::string& origin,
+                                      const fs::path& base_dir) {
+  JsonObjectReader p = root.object("pattern");
+  const PatternSettings d;
+  PatternSettings o;
+  o.objective = p.string("objective", "packing", {"packing", "exemplar"}) == "exemplar"
+                    ? PatternObjective::Exemplar
+                    : PatternObjective::Packing;
+  if (const json* ex = p.child("exemplar")) {
+    if (ex->is_string()) {
+      o.exemplar = p.string("exemplar", "", exemplar_names());
+    } else if (ex->is_object()) {
+      // Validated here (what `check` runs), mapped onto the stencils by the pattern phase.
+      parse_exemplar(*ex, origin, p.path_of("exemplar"));
+      o.exemplar_inline = *ex;
+    } else {
+      p.fail("exemplar", "expected a built-in exemplar name or an exemplar object");
+    }
+  }
+  if (o.objective == PatternObjective::Exemplar && o.exemplar.empty() && o.exemplar_inline.is_null())
+    p.fail("exemplar", "is required when objective is 'exemplar'");
+  o.w_P = p.number("w_P", d.w_P, 0, kInf);
+  o.s = p.number("s", d.s, 0, 10);
+  o.r_N = p.number("r_N", d.r_N, 0, 10, true);
+  o.epsilon = p.number("epsilon", d.epsilon, 0, 10, true);
+  o.xi = p.number("xi", d.xi, 0, kInf);
+  o.scale = p.number("scale", d.scale, 0, kInf);
+  o.scale_min = p.number("scale_min", 0.5, 0, 1);
+  o.scale_max = p.number("scale_max", 1.5, 1, 100);
+  o.count = p.integer("count", d.count, 0, 10'000'000);
+  o.symmetry = p.integer("symmetry", d.symmetry, 0, 12);
+  o.sizing = p.number("sizing", d.sizing, 0, kInf, true);
+  if (p.has("sizing_file")) {
+    fs::path f(p.string("sizing_file", ""));
+    o.sizing_file = f.is_absolute() || base_dir.empty() ? f : base_dir / f;
+  } else {
+    p.child("sizing_file");
+  }
+  parse_brushes_and_strokes(p, origin, o);
+  o.stroke_weight = p.number("stroke_weight", d.stroke_weight, 0, kInf);
+  o.max_iterations = p.integer("max_iterations", d.max_iterations, 0, 1'000'000);
+  o.seed = unsigned(p.integer("seed", int(d.seed), 0, 2147483647));
+  p.finish();
+  return o;
+}
+
+/// /structure: the structural objective and the structure phase's settings.
+StructureSettings parse_structure_section(JsonObjectReader& root) {
+  JsonObjectReader s = root.object("structure");
+  const StructureSettings d;
+  StructureSettings o;
+  o.objective = read_named(s, "objective", d.objective, kStructuralObjectives);
+  o.w_S = s.number("w_S", d.w_S, 0, kInf);
+  o.beta = s.number("beta", d.beta, 0, 1, true, false);
+  o.adaptive_mode = s.string("adaptive_mode", d.adaptive_mode, {"top_percent", "median"});
+  o.adaptive_y = s.number("adaptive_y", d.adaptive_y, 0, 100, true);
+  o.max_iterations = s.integer("max_iterations", d.max_iterations, 0, 1'000'000);
+  o.max_rounds = s.integer("max_rounds", d.max_rounds, 1, 1000);
+  o.fill_holes = s.boolean("fill_holes", d.fill_holes);
+  o.max_rotation = s.number("max_rotation", d.max_rotation, 0, 180);
+  s.finish();
+  return o;
+}
+
+/// /fabrication: what the printed part must satisfy.
+FabricationSettings parse_fabrication_section(JsonObjectReader& root) {
+  JsonObjectReader f = root.object("fabrication");
+  FabricationSettings fabrication;
+  fabrication.min_feature = f.number("min_feature", FabricationSettings{}.min_feature, 0, 10);
+  f.finish();
+  return fabrication;
+}
 
 }  // namespace
 
@@ -104,239 +402,15 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
   Scene scene;
   scene.name = root.string("name", "unnamed");
   scene.description = root.string("description", "");
-
-  // ---- mesh
-  {
-    JsonObjectReader m = root.object("mesh");
-    if (!root.has("mesh")) root.fail("mesh", "is required: {\"generator\": NAME} or {\"file\": PATH}");
-    const bool has_gen = m.has("generator"), has_file = m.has("file");
-    if (has_gen == has_file) m.fail("", "needs exactly one of 'generator' or 'file'");
-    if (has_gen) {
-      std::vector<std::string> names;
-      for (const auto& s : builtin_shapes()) names.push_back(s.name);
-      scene.mesh.generator = m.string("generator", "", names);
-      const ShapeInfo* info = find_shape(scene.mesh.generator);
-      JsonObjectReader p = m.object("params");
-      for (const auto& [key, def] : info->defaults)
-        scene.mesh.params[key] = p.number(key, def, -kInf, kInf);
-      p.finish();  // unknown parameters named with the accepted ones; ranges checked by shapes
-      scene.mesh.edge_length = m.number("edge_length", info->base_edge_length, 0, kInf, true);
-      scene.mesh.sim_edge_length = m.number("sim_edge_length", info->sim_edge_length, 0, kInf);
-    } else {
-      const std::string f = m.string("file", "");
-      if (f.empty()) m.fail("file", "must name a mesh file");
-      fs::path p(f);
-      scene.mesh.file = p.is_absolute() || base_dir.empty() ? p : base_dir / p;
-      if (!is_mesh_file(scene.mesh.file))
-        m.fail("file", "'" + f + "' is not a mesh file (accepted: .obj .ply .off .stl)");
-      scene.mesh.sim_edge_length = 0;
-    }
-    m.finish();
-  }
-
-  // ---- material
-  {
-    JsonObjectReader m = root.object("material");
-    Material d;
-    scene.material.youngs_modulus = m.number("youngs_modulus", d.youngs_modulus, 0, 1e13, true);
-    scene.material.poisson_ratio = m.number("poisson_ratio", d.poisson_ratio, 0, 0.5, false, true);
-    scene.material.thickness = m.number("thickness", d.thickness, 0, 10, true);
-    scene.material.density = m.number("density", d.density, 0, 1e5);
-    m.finish();
-  }
-
-  // ---- mechanics
-  {
-    JsonObjectReader m = root.object("mechanics");
-    const std::string bending = m.string("bending", "shape_operator", {"shape_operator", "hinge"});
-    scene.mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
-    m.finish();
-  }
-
-  // ---- supports
-  {
-    const json& arr = root.array("supports");
-    for (size_t i = 0; i < arr.size(); ++i) {
-      JsonObjectReader s(arr[i], origin, "/supports/" + std::to_string(i));
-      SupportSpec spec;
-      spec.kind = s.string("type", "pinned", kSupportTypes) == "clamped" ? SupportKind::Clamped
-                                                                          : SupportKind::Pinned;
-      if (!s.has("select")) s.fail("select", "is required: which vertices are supported");
-      spec.select = parse_selector(s.object("select"), Entity::Vertices);
-      s.finish();
-      scene.supports.push_back(spec);
-    }
-  }
-
-  // ---- loads
-  {
-    const json& arr = root.array("loads");
-    for (size_t i = 0; i < arr.size(); ++i) {
-      JsonObjectReader l(arr[i], origin, "/loads/" + std::to_string(i));
-      LoadSpec spec;
-      const std::string type = l.required_string("type", kLoadTypes);
-      if (type == "self_weight") {
-        spec.kind = LoadKind::SelfWeight;
-        spec.gravity = l.vec3("gravity", Vec3(0, 0, -9.81));
-      } else {
-        const Entity def = type == "point" ? Entity::Vertices
-                           : type == "edge" ? Entity::BoundaryEdges
-                                            : Entity::Faces;
-        spec.kind = type == "point" ? LoadKind::Point
-                    : type == "edge" ? LoadKind::Edge
-                    : type == "area" ? LoadKind::Area
-                                     : LoadKind::Pressure;
-        if (spec.kind == LoadKind::Pressure)
-          spec.pressure = l.required_number("pressure", -kInf, kInf);
-        else
-          spec.force = l.required_vec3("force");
-        if (!l.has("select")) l.fail("select", "is required: where the load acts");
-        spec.select = parse_selector(l.object("select"), def);
-        const bool edge_entity = spec.select.entity == Entity::Edges || spec.select.entity == Entity::BoundaryEdges;
-        const bool face_entity = spec.select.entity == Entity::Faces;
-        if (spec.kind == LoadKind::Edge && !edge_entity)
-          l.fail("select", "an edge load selects 'edges' or 'boundary_edges'");
-        if ((spec.kind == LoadKind::Area || spec.kind == LoadKind::Pressure) && !face_entity)
-          l.fail("select", "an " + type + " load selects 'faces'");
-        if (spec.kind == LoadKind::Point && (edge_entity || face_entity))
-          l.fail("select", "a point load selects 'vertices' or 'boundary_vertices'");
-      }
-      l.finish();
-      scene.loads.push_back(spec);
-    }
-  }
-
-  // ---- stencil shapes
-  {
-    const json& arr = root.array("stencils");
-    for (size_t i = 0; i < arr.size(); ++i) {
-      const std::string path = "/stencils/" + std::to_string(i);
-      JsonObjectReader s(arr[i], origin, path);
-      StencilShapeSpec spec;
-      spec.kind = s.string("kind", "circle");
-      spec.name = s.string("name", spec.kind);
-      for (const auto& other : scene.shapes)
-        if (other.name == spec.name) s.fail("name", "duplicate stencil name '" + spec.name + "'");
-      if (spec.kind == "polygon") {
-        const json& pts = s.array("polygon");
-        for (size_t k = 0; k < pts.size(); ++k) {
-          const std::string pp = path + "/polygon/" + std::to_string(k);
-          if (!pts[k].is_array() || pts[k].size() != 2 || !pts[k][0].is_number() || !pts[k][1].is_number())
-            throw InputError(origin + ": " + pp + ": expected [x, y]");
-          spec.polygon.emplace_back(pts[k][0].get<double>(), pts[k][1].get<double>());
-        }
-      } else if (s.has("params")) {
-        JsonObjectReader p = s.object("params");
-        for (auto it = arr[i]["params"].begin(); it != arr[i]["params"].end(); ++it)
-          spec.params[it.key()] = p.number(it.key(), 0, -kInf, kInf);
-        p.finish();
-      } else {
-        s.child("params");
-      }
-      s.finish();
-      // Shape kinds and their parameters are validated by the stencil library itself.
-      try {
-        if (spec.kind == "polygon")
-          make_polygon_stencil(spec.name, spec.polygon);
-        else
-          make_builtin_stencil(spec.kind, spec.params, spec.name);
-      } catch (const InputError& e) {
-        throw InputError(origin + ": " + path + ": " + e.what());
-      }
-      scene.shapes.push_back(spec);
-    }
-  }
-
-  // ---- pattern
-  {
-    JsonObjectReader p = root.object("pattern");
-    PatternSettings d;
-    PatternSettings& o = scene.pattern;
-    o.objective = p.string("objective", "packing", {"packing", "exemplar"}) == "exemplar"
-                      ? PatternObjective::Exemplar
-                      : PatternObjective::Packing;
-    if (const json* ex = p.child("exemplar")) {
-      if (ex->is_string()) {
-        o.exemplar = p.string("exemplar", "", exemplar_names());
-      } else if (ex->is_object()) {
-        // Validated here (what `check` runs), mapped onto the stencils by the pattern phase.
-        parse_exemplar(*ex, origin, p.path_of("exemplar"));
-        o.exemplar_inline = *ex;
-      } else {
-        p.fail("exemplar", "expected a built-in exemplar name or an exemplar object");
-      }
-    }
-    if (o.objective == PatternObjective::Exemplar && o.exemplar.empty() && o.exemplar_inline.is_null())
-      p.fail("exemplar", "is required when objective is 'exemplar'");
-    o.w_P = p.number("w_P", d.w_P, 0, kInf);
-    o.s = p.number("s", d.s, 0, 10);
-    o.r_N = p.number("r_N", d.r_N, 0, 10, true);
-    o.epsilon = p.number("epsilon", d.epsilon, 0, 10, true);
-    o.xi = p.number("xi", d.xi, 0, kInf);
-    o.scale = p.number("scale", d.scale, 0, kInf);
-    o.scale_min = p.number("scale_min", 0.5, 0, 1);
-    o.scale_max = p.number("scale_max", 1.5, 1, 100);
-    o.count = p.integer("count", d.count, 0, 10'000'000);
-    o.symmetry = p.integer("symmetry", d.symmetry, 0, 12);
-    o.sizing = p.number("sizing", d.sizing, 0, kInf, true);
-    if (p.has("sizing_file")) {
-      fs::path f(p.string("sizing_file", ""));
-      o.sizing_file = f.is_absolute() || base_dir.empty() ? f : base_dir / f;
-    } else {
-      p.child("sizing_file");
-    }
-    const json& brushes = p.array("brushes");
-    for (size_t i = 0; i < brushes.size(); ++i) {
-      JsonObjectReader b(brushes[i], origin, p.path_of("brushes") + "/" + std::to_string(i));
-      SizingBrush br;
-      br.center = b.required_vec3("center");
-      br.radius = b.required_number("radius", 0, kInf, true);
-      br.value = b.required_number("value", 0, kInf, true);
-      b.finish();
-      o.brushes.push_back(br);
-    }
-    const json& strokes = p.array("strokes");
-    for (size_t i = 0; i < strokes.size(); ++i) {
-      const std::string sp = p.path_of("strokes") + "/" + std::to_string(i);
-      if (!strokes[i].is_array() || strokes[i].size() < 2)
-        throw InputError(origin + ": " + sp + ": a stroke is an array of at least 2 points [x, y, z]");
-      SketchStroke st;
-      for (size_t k = 0; k < strokes[i].size(); ++k)
-        st.points.push_back(json_to_vec3(strokes[i][k], origin, sp + "/" + std::to_string(k)));
-      o.strokes.push_back(st);
-    }
-    o.stroke_weight = p.number("stroke_weight", d.stroke_weight, 0, kInf);
-    o.max_iterations = p.integer("max_iterations", d.max_iterations, 0, 1'000'000);
-    o.seed = unsigned(p.integer("seed", int(d.seed), 0, 2147483647));
-    p.finish();
-  }
-
-  // ---- structure
-  {
-    JsonObjectReader s = root.object("structure");
-    StructureSettings d;
-    StructureSettings& o = scene.structure;
-    const std::string obj = s.string("objective", "energy_density", kStructuralObjectives);
-    o.objective = StructuralObjective(std::find(kStructuralObjectives.begin(), kStructuralObjectives.end(), obj) -
-                                      kStructuralObjectives.begin());
-    o.w_S = s.number("w_S", d.w_S, 0, kInf);
-    o.beta = s.number("beta", d.beta, 0, 1, true, false);
-    o.adaptive_mode = s.string("adaptive_mode", d.adaptive_mode, {"top_percent", "median"});
-    o.adaptive_y = s.number("adaptive_y", d.adaptive_y, 0, 100, true);
-    o.max_iterations = s.integer("max_iterations", d.max_iterations, 0, 1'000'000);
-    o.max_rounds = s.integer("max_rounds", d.max_rounds, 1, 1000);
-    o.fill_holes = s.boolean("fill_holes", d.fill_holes);
-    o.max_rotation = s.number("max_rotation", d.max_rotation, 0, 180);
-    s.finish();
-  }
-
-  // ---- fabrication
-  {
-    JsonObjectReader f = root.object("fabrication");
-    scene.fabrication.min_feature = f.number("min_feature", FabricationSettings{}.min_feature, 0, 10);
-    f.finish();
-  }
-
+  scene.mesh = parse_mesh_section(root, base_dir);
+  scene.material = parse_material_section(root);
+  scene.mechanics = parse_mechanics_section(root);
+  scene.supports = parse_supports_section(root, origin);
+  scene.loads = parse_loads_section(root, origin);
+  scene.shapes = parse_stencils_section(root, origin);
+  scene.pattern = parse_pattern_section(root, origin, base_dir);
+  scene.structure = parse_structure_section(root);
+  scene.fabrication = parse_fabrication_section(root);
   root.finish();
   return scene;
 }
@@ -366,7 +440,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
   j["loads"] = json::array();
   for (const auto& l : s.loads) {
     json lj;
-    lj["type"] = kLoadTypes[int(l.kind)];
+    lj["type"] = name_of(kLoadKinds, l.kind);
     switch (l.kind) {
       case LoadKind::SelfWeight: lj["gravity"] = vec3_json(l.gravity); break;
       case LoadKind::Pressure: lj["pressure"] = l.pressure; break;
@@ -409,7 +483,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
   }
   j["pattern"] = pj;
   const StructureSettings& st = s.structure;
-  j["structure"] = {{"objective", kStructuralObjectives[int(st.objective)]},
+  j["structure"] = {{"objective", name_of(kStructuralObjectives, st.objective)},
                     {"w_S", st.w_S},
                     {"beta", st.beta},
                     {"adaptive_mode", st.adaptive_mode},
@@ -580,7 +654,7 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
   auto selected = [&](const Selector& sel) {
     std::vector<int> ids = select_entities(sel, mesh, outer_boundary);
     if (ids.empty())
-      throw InputError(origin + ": " + sel.json_path + ": selects no " + entity_names()[int(sel.entity)] +
+      throw InputError(origin + ": " + sel.json_path + ": selects no " + name_of(kEntities, sel.entity) +
                        " on the simulation mesh (bounding box [" + format_number(mesh.bbox_min()[0]) + ", " +
                        format_number(mesh.bbox_min()[1]) + ", " + format_number(mesh.bbox_min()[2]) + "] to [" +
                        format_number(mesh.bbox_max()[0]) + ", " + format_number(mesh.bbox_max()[1]) + ", " +

@@ -48,6 +48,65 @@ RowMatX3i to_matrix(const std::vector<Eigen::Vector3i>& faces) {
   return out;
 }
 
+/// Vertex adjacency of a domain mesh (#V lists each): the neighbours, for boundary vertices
+/// their two neighbours along the boundary (the endpoints of boundary edges, i.e. edges used by
+/// exactly one face), and the faces around each vertex.
+struct DomainAdjacency {
+  std::vector<std::vector<int>> neighbours, boundary_neighbours, vertex_faces;
+};
+
+DomainAdjacency domain_adjacency(const DomainMesh& mesh) {
+  const int n = int(mesh.uv.rows());
+  DomainAdjacency adj;
+  adj.neighbours.assign(std::size_t(n), std::vector<int>{});
+  adj.boundary_neighbours.assign(std::size_t(n), std::vector<int>{});
+  adj.vertex_faces.assign(std::size_t(n), std::vector<int>{});
+  std::vector<std::pair<int, int>> undirected;
+  undirected.reserve(std::size_t(mesh.faces.rows()) * 3);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = mesh.faces(f, c), b = mesh.faces(f, (c + 1) % 3);
+      undirected.emplace_back(std::min(a, b), std::max(a, b));
+      adj.vertex_faces[std::size_t(a)].push_back(int(f));
+    }
+  }
+  std::sort(undirected.begin(), undirected.end());
+  for (std::size_t e = 0; e < undirected.size();) {
+    std::size_t count = 1;
+    while (e + count < undirected.size() && undirected[e + count] == undirected[e]) ++count;
+    const auto [a, b] = undirected[e];
+    adj.neighbours[std::size_t(a)].push_back(b);
+    adj.neighbours[std::size_t(b)].push_back(a);
+    if (count == 1) {
+      adj.boundary_neighbours[std::size_t(a)].push_back(b);
+      adj.boundary_neighbours[std::size_t(b)].push_back(a);
+    }
+    e += count;
+  }
+  return adj;
+}
+
+/// A greedy colouring (in index order) of the vertices that are not `pinned` (empty or #V): the
+/// vertices of one colour are pairwise non-adjacent. Returns the vertices of each colour.
+std::vector<std::vector<int>> colour_classes(const std::vector<std::vector<int>>& neighbours,
+                                             const std::vector<bool>& pinned) {
+  const int n = int(neighbours.size());
+  std::vector<int> colour(std::size_t(n), -1);
+  std::vector<std::vector<int>> by_colour;
+  for (int i = 0; i < n; ++i) {
+    if (!pinned.empty() && pinned[std::size_t(i)]) continue;
+    std::vector<bool> taken(by_colour.size() + 1, false);
+    for (int j : neighbours[std::size_t(i)]) {
+      if (colour[std::size_t(j)] >= 0) taken[std::size_t(colour[std::size_t(j)])] = true;
+    }
+    const int c = int(std::find(taken.begin(), taken.end(), false) - taken.begin());
+    colour[std::size_t(i)] = c;
+    if (std::size_t(c) == by_colour.size()) by_colour.emplace_back();
+    by_colour[std::size_t(c)].push_back(i);
+  }
+  return by_colour;
+}
+
 }  // namespace
 
 double RectangleLattice::num_vertices() const {
@@ -149,35 +208,10 @@ void relax_on_surface(DomainMesh& mesh, const SurfaceMap& map, int sweeps,
   // Half a step towards the neighbours' centroid: a full step overshoots on curved surfaces.
   const double step = 0.5;
   const int n = int(mesh.uv.rows());
-  // Vertex adjacency, and for boundary vertices their two neighbours along the boundary
-  // (the endpoints of boundary edges, i.e. edges used by exactly one face).
-  std::vector<std::vector<int>> neighbours(std::size_t(n), std::vector<int>{});
-  std::vector<std::vector<int>> boundary_neighbours(std::size_t(n), std::vector<int>{});
-  std::vector<std::vector<int>> vertex_faces(std::size_t(n), std::vector<int>{});
-  {
-    std::vector<std::pair<int, int>> undirected;
-    undirected.reserve(std::size_t(mesh.faces.rows()) * 3);
-    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-      for (int c = 0; c < 3; ++c) {
-        const int a = mesh.faces(f, c), b = mesh.faces(f, (c + 1) % 3);
-        undirected.emplace_back(std::min(a, b), std::max(a, b));
-        vertex_faces[std::size_t(a)].push_back(int(f));
-      }
-    }
-    std::sort(undirected.begin(), undirected.end());
-    for (std::size_t e = 0; e < undirected.size();) {
-      std::size_t count = 1;
-      while (e + count < undirected.size() && undirected[e + count] == undirected[e]) ++count;
-      const auto [a, b] = undirected[e];
-      neighbours[std::size_t(a)].push_back(b);
-      neighbours[std::size_t(b)].push_back(a);
-      if (count == 1) {
-        boundary_neighbours[std::size_t(a)].push_back(b);
-        boundary_neighbours[std::size_t(b)].push_back(a);
-      }
-      e += count;
-    }
-  }
+  const DomainAdjacency adjacency = domain_adjacency(mesh);
+  const auto& neighbours = adjacency.neighbours;
+  const auto& boundary_neighbours = adjacency.boundary_neighbours;
+  const auto& vertex_faces = adjacency.vertex_faces;
 
   RowMatX3d x(n, 3);
   for (int i = 0; i < n; ++i) x.row(i) = map(mesh.uv.row(i).transpose()).transpose();
@@ -237,22 +271,9 @@ void relax_on_surface(DomainMesh& mesh, const SurfaceMap& map, int sweeps,
     }
   };
 
-  // Gauss-Seidel by colour: a greedy colouring (in index order) makes the vertices of one
-  // colour pairwise non-adjacent, so each colour is relaxed in parallel and every vertex reads
-  // only other colours' positions — the result is the same for any number of threads.
-  std::vector<int> colour(std::size_t(n), -1);
-  std::vector<std::vector<int>> by_colour;
-  for (int i = 0; i < n; ++i) {
-    if (!pinned.empty() && pinned[std::size_t(i)]) continue;
-    std::vector<bool> taken(by_colour.size() + 1, false);
-    for (int j : neighbours[std::size_t(i)]) {
-      if (colour[std::size_t(j)] >= 0) taken[std::size_t(colour[std::size_t(j)])] = true;
-    }
-    const int c = int(std::find(taken.begin(), taken.end(), false) - taken.begin());
-    colour[std::size_t(i)] = c;
-    if (std::size_t(c) == by_colour.size()) by_colour.emplace_back();
-    by_colour[std::size_t(c)].push_back(i);
-  }
+  // Gauss-Seidel by colour: each colour is relaxed in parallel and every vertex reads only other
+  // colours' positions — the result is the same for any number of threads.
+  const std::vector<std::vector<int>> by_colour = colour_classes(neighbours, pinned);
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     for (const auto& group : by_colour) {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.size(), 256),

@@ -47,6 +47,69 @@ class UnsupportedModel : public SolveError {
   using SolveError::SolveError;
 };
 
+/// ∇Π·d of the Newton direction d (`direction`, #DOF) at the force residual r. With a positive
+/// definite factor it is negative unless round-off dominates; then d becomes the steepest
+/// descent −r rather than walk uphill, and `steepest` is set.
+double descent_slope(const Eigen::VectorXd& residual, Eigen::VectorXd& direction, bool& steepest) {
+  const double slope = residual.dot(direction);
+  steepest = !(slope < 0);
+  if (!steepest) return slope;
+  direction = -residual;
+  return -residual.squaredNorm();
+}
+
+/// During the iteration a Newton iterate may overshoot, but a displacement `displacement` (m)
+/// beyond kExplosionFactor times the limit (`ratio` × the model size `size`, m) is clearly beyond
+/// the structure's capacity: throws SolveError.
+void check_growth(double displacement, double ratio, double size) {
+  if (displacement > kExplosionFactor * (ratio * size))
+    throw SolveError(fmt::format(
+        "the load exceeds what the structure can carry: the displacement grew to {:.3g} m during "
+        "Newton's method, far beyond {:.0f}% of the model size ({:.3g} m)",
+        displacement, 100 * ratio, size));
+}
+
+/// Backtracking line search on Π(x) = Ŵ(x) − f·(x − X) from the free coordinates `x` (the shell
+/// at `positions`, #V×3, whose energy is `energy0`) along `direction` (#DOF), with the Armijo
+/// test on `slope` = ∇Π·d. Near the solution the decrease of Π drowns in round-off of Ŵ and
+/// f·u; then a step that reduces the force residual (|`residual`| now) is accepted instead.
+/// Returns whether a step was accepted; then `x` and `positions` hold the new point, else they
+/// are unchanged. Counts the energy evaluations in `stats`.
+bool line_search(const ShellModel& model, const Eigen::VectorXd& alpha, const Eigen::VectorXd& load,
+                 const Eigen::VectorXd& rest, const Eigen::VectorXd& direction, double slope,
+                 const Eigen::VectorXd& residual, double energy0, Eigen::VectorXd& x, RowMatX3d& positions,
+                 EquilibriumStats& stats) {
+  const double work0 = load.dot(x - rest);
+  const double potential0 = energy0 - work0;
+  RowMatX3d candidate = positions;
+  Eigen::VectorXd xt;
+  double step = 1.0;
+  for (int halving = 0; halving <= kMaxHalvings; ++halving, step *= 0.5) {
+    xt = x + step * direction;
+    model.scatter_free(xt, candidate);
+    const double energy = shell_energy(model, candidate, alpha);
+    ++stats.energy_evaluations;
+    if (!std::isfinite(energy)) continue;
+    const double work = load.dot(xt - rest);
+    const double potential = energy - work;
+    bool accepted = potential <= potential0 + kArmijo * step * slope;
+    if (!accepted) {
+      const double noise = kEnergyRoundoff * (std::abs(energy0) + std::abs(work0) + std::abs(energy));
+      if (std::abs(potential - potential0) <= noise) {
+        ShellAssembly probe;
+        assemble_shell(model, candidate, alpha, false, probe);
+        accepted = (probe.gradient - load).norm() < residual.norm();
+      }
+    }
+    if (accepted) {
+      x = xt;
+      positions = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 EquilibriumSolver::EquilibriumSolver(const ShellModel& model, NewtonSettings settings)
@@ -175,7 +238,6 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
   const ShellModel& model = m_model;
   const double load_norm = load.norm();
   const double size = model.model_size();
-  const double limit = m_settings.max_displacement_ratio * size;
   const Eigen::VectorXd rest = model.gather_free(model.rest_positions());
   Eigen::VectorXd x = model.gather_free(m_trial);
   Eigen::VectorXd direction(model.num_dofs());
@@ -258,48 +320,13 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
     if (!krylov && shift == 0 && direction.lpNorm<Eigen::Infinity>() <= negligible)
       return converge("negligible_step");
 
-    double slope = residual.dot(direction);
-    if (!(slope < 0)) {
-      // Cannot happen with a positive definite factor unless round-off dominates; fall back to
-      // steepest descent rather than walk uphill.
-      direction = -residual;
-      slope = -residual.squaredNorm();
-      log(fmt::format("Newton iteration {}: not a descent direction, using the residual", iteration));
-    }
+    bool steepest = false;
+    const double slope = descent_slope(residual, direction, steepest);
+    if (steepest) log(fmt::format("Newton iteration {}: not a descent direction, using the residual", iteration));
 
-    // Backtracking line search on Π(x) = Ŵ(x) − f·(x − X).
     sw.restart();
-    const double energy0 = m_assembly.energy;
-    const double work0 = load.dot(x - rest);
-    const double potential0 = energy0 - work0;
-    RowMatX3d candidate = m_trial;
-    Eigen::VectorXd xt;
-    bool accepted = false;
-    double step = 1.0;
-    for (int halving = 0; halving <= kMaxHalvings; ++halving, step *= 0.5) {
-      xt = x + step * direction;
-      model.scatter_free(xt, candidate);
-      const double energy = shell_energy(model, candidate, alpha);
-      ++m_stats.energy_evaluations;
-      if (!std::isfinite(energy)) continue;
-      const double work = load.dot(xt - rest);
-      const double potential = energy - work;
-      if (potential <= potential0 + kArmijo * step * slope) {
-        accepted = true;
-        break;
-      }
-      // Near the solution the decrease of Π drowns in round-off of Ŵ and f·u; then accept a step
-      // that reduces the force residual instead.
-      const double noise = kEnergyRoundoff * (std::abs(energy0) + std::abs(work0) + std::abs(energy));
-      if (std::abs(potential - potential0) <= noise) {
-        ShellAssembly probe;
-        assemble_shell(model, candidate, alpha, false, probe);
-        if ((probe.gradient - load).norm() < residual.norm()) {
-          accepted = true;
-          break;
-        }
-      }
-    }
+    const bool accepted =
+        line_search(model, alpha, load, rest, direction, slope, residual, m_assembly.energy, x, m_trial, m_stats);
     m_stats.line_search_seconds += sw.seconds();
     if (!accepted) {
       if (rel <= kRoundoffResidual) {
@@ -311,14 +338,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
           "load); the load may exceed what the structure can carry",
           rel));
     }
-    x = xt;
-    m_trial = candidate;
-    const double unew = trial_displacement();
-    if (unew > kExplosionFactor * limit)
-      throw SolveError(fmt::format(
-          "the load exceeds what the structure can carry: the displacement grew to {:.3g} m during "
-          "Newton's method, far beyond {:.0f}% of the model size ({:.3g} m)",
-          unew, 100 * m_settings.max_displacement_ratio, size));
+    check_growth(trial_displacement(), m_settings.max_displacement_ratio, size);
   }
 }
 

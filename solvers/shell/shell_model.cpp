@@ -23,6 +23,121 @@ int find_root(std::vector<int>& parent, int v) {
 
 std::string point_text(const Vec3& p) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", p.x(), p.y(), p.z()); }
 
+/// The load case must match the mesh (#V entries; empty ones are filled in as "none") and be
+/// finite.
+void check_load_case(LoadCase& lc, int nv) {
+  if (lc.fixed.empty()) lc.fixed.assign(nv, false);
+  if (lc.clamped.empty()) lc.clamped.assign(nv, false);
+  if (lc.forces.rows() == 0) lc.forces = RowMatX3d::Zero(nv, 3);
+  if (int(lc.fixed.size()) != nv || int(lc.clamped.size()) != nv || lc.forces.rows() != nv)
+    throw InputError(fmt::format("load case: sized for {} / {} / {} vertices, the mesh has {}",
+                                 lc.fixed.size(), lc.clamped.size(), lc.forces.rows(), nv));
+  for (int v = 0; v < nv; ++v) {
+    if (!lc.forces.row(v).allFinite())
+      throw SolveError(fmt::format("the loads are not finite: vertex {} carries the force {} N", v,
+                                   point_text(lc.forces.row(v).transpose())));
+  }
+  if (!lc.gravity.allFinite())
+    throw SolveError("the loads are not finite: gravity is " + point_text(lc.gravity) + " m/s^2");
+}
+
+/// Every connected part of the mesh must be held against rigid motion: some fixed vertex, and
+/// supports off one line unless the part is clamped (a clamp hinge, or a bend element with a
+/// ghost node). Throws SolveError naming the part otherwise.
+void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced, const std::vector<bool>& fixed,
+                    const std::vector<ClampHinge>& clamps, const std::vector<ShellBend>& bends) {
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  const RowMatX3d& X = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  std::vector<int> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 1; k < 3; ++k) parent[find_root(parent, F(f, k))] = find_root(parent, F(f, 0));
+  std::vector<std::vector<int>> fixed_of(nv);
+  std::vector<int> faces_of(nv, 0);
+  std::vector<bool> clamped_part(nv, false);
+  bool any_fixed = false;
+  for (int v = 0; v < nv; ++v)
+    if (referenced[v] && fixed[v]) {
+      fixed_of[find_root(parent, v)].push_back(v);
+      any_fixed = true;
+    }
+  for (int f = 0; f < nf; ++f) ++faces_of[find_root(parent, F(f, 0))];
+  for (const ClampHinge& ch : clamps) clamped_part[find_root(parent, ch.v[0])] = true;
+  for (const ShellBend& b : bends)
+    for (int i = 0; i < 3; ++i)
+      if (b.rest.across[i] == PatchNode::Ghost) clamped_part[find_root(parent, F(b.face, 0))] = true;
+  if (!any_fixed)
+    throw SolveError(
+        "the model is not supported: no fixed vertices, so a rigid motion is possible (add a support "
+        "that pins or clamps part of the surface)");
+  // Bounding box of every part, for a scale-aware collinearity tolerance and a message a user
+  // can place.
+  std::vector<Vec3> part_lo(nv, Vec3::Constant(INFINITY)), part_hi(nv, Vec3::Constant(-INFINITY));
+  for (int v = 0; v < nv; ++v) {
+    if (!referenced[v]) continue;
+    const int r = find_root(parent, v);
+    part_lo[r] = part_lo[r].cwiseMin(X.row(v).transpose());
+    part_hi[r] = part_hi[r].cwiseMax(X.row(v).transpose());
+  }
+  for (int r = 0; r < nv; ++r) {
+    if (faces_of[r] == 0) continue;
+    const Vec3 centre = 0.5 * (part_lo[r] + part_hi[r]);
+    const double size = (part_hi[r] - part_lo[r]).norm();
+    const auto& fx = fixed_of[r];
+    if (fx.empty())
+      throw SolveError(fmt::format(
+          "the model is not supported: the part of the mesh with {} triangles around {} has no "
+          "fixed vertices, so a rigid motion is possible (support it as well)",
+          faces_of[r], point_text(centre)));
+    // Spread of the supports: the largest distance from the line through the two farthest ones.
+    const Vec3 p0 = X.row(fx[0]);
+    int far = fx[0];
+    for (int v : fx)
+      if ((X.row(v).transpose() - p0).norm() > (X.row(far).transpose() - p0).norm()) far = v;
+    const Vec3 dir = X.row(far).transpose() - p0;
+    double off_line = 0;
+    if (dir.norm() > 1e-12 * size) {
+      const Vec3 u = dir.normalized();
+      for (int v : fx) {
+        const Vec3 q = X.row(v).transpose() - p0;
+        off_line = std::max(off_line, (q - q.dot(u) * u).norm());
+      }
+    }
+    if (off_line <= 1e-9 * size && !clamped_part[r]) {
+      throw SolveError(fmt::format(
+          "the model is not supported: the supports of the part with {} triangles around {} {}, "
+          "so it can rotate rigidly about them (pin a third point off that line, or clamp an edge)",
+          faces_of[r], point_text(centre),
+          dir.norm() > 1e-12 * size ? "lie on one line" : "are a single point"));
+    }
+  }
+}
+
+/// The assembly pattern over the free nodes of `model` (its elements built, DOFs numbered): each
+/// element's nodes (−1 for a fixed vertex or a ghost), in element order (membranes, bends,
+/// hinges, clamp hinges).
+BlockAssembly assembly_pattern(const ShellModel& model) {
+  const RowMatX3i& F = model.mesh().faces();
+  const int nf = model.num_faces();
+  const std::vector<int>& vertex_node = model.vertex_node();
+  std::vector<BlockAssembly::ElementNodes> element_nodes;
+  element_nodes.reserve(model.num_elements());
+  auto node = [&](int v) { return vertex_node[v]; };
+  auto node_or_none = [&](int v) { return v < 0 ? -1 : vertex_node[v]; };
+  for (int f = 0; f < nf; ++f) element_nodes.push_back(BlockAssembly::nodes({node(F(f, 0)), node(F(f, 1)), node(F(f, 2))}));
+  for (const ShellBend& b : model.bends()) {
+    BlockAssembly::ElementNodes en;
+    for (int a = 0; a < 6; ++a) en[a] = node_or_none(b.v[a]);
+    element_nodes.push_back(en);
+  }
+  for (const ShellHinge& h : model.hinges())
+    element_nodes.push_back(BlockAssembly::nodes({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])}));
+  for (const ClampHinge& c : model.clamp_hinges())
+    element_nodes.push_back(BlockAssembly::nodes({node(c.v[0]), node(c.v[1]), node(c.v[2])}));
+  return BlockAssembly(model.num_nodes(), element_nodes);
+}
+
 }  // namespace
 
 ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case,
@@ -37,22 +152,8 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   const RowMatX3d& X = mesh.vertices();
   const RowMatX3i& F = mesh.faces();
 
-  // --- the load case must match the mesh ------------------------------------------------------
   LoadCase& lc = m_load_case;
-  if (lc.fixed.empty()) lc.fixed.assign(nv, false);
-  if (lc.clamped.empty()) lc.clamped.assign(nv, false);
-  if (lc.forces.rows() == 0) lc.forces = RowMatX3d::Zero(nv, 3);
-  if (int(lc.fixed.size()) != nv || int(lc.clamped.size()) != nv || lc.forces.rows() != nv)
-    throw InputError(fmt::format("load case: sized for {} / {} / {} vertices, the mesh has {}",
-                                 lc.fixed.size(), lc.clamped.size(), lc.forces.rows(), nv));
-  for (int v = 0; v < nv; ++v) {
-    if (!lc.forces.row(v).allFinite())
-      throw SolveError(fmt::format("the loads are not finite: vertex {} carries the force {} N", v,
-                                   point_text(lc.forces.row(v).transpose())));
-  }
-  if (!lc.gravity.allFinite())
-    throw SolveError("the loads are not finite: gravity is " + point_text(lc.gravity) + " m/s^2");
-
+  check_load_case(lc, nv);
   std::vector<bool> referenced(nv, false);
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) referenced[F(f, k)] = true;
@@ -88,100 +189,19 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   // --- supports: every connected part must be held against rigid motion -----------------------
   if (m_node_vertex.empty())
     throw SolveError("nothing to solve: every vertex of the mesh is fixed");
-  {
-    std::vector<int> parent(nv);
-    std::iota(parent.begin(), parent.end(), 0);
-    for (int f = 0; f < nf; ++f)
-      for (int k = 1; k < 3; ++k) parent[find_root(parent, F(f, k))] = find_root(parent, F(f, 0));
-    std::vector<std::vector<int>> fixed_of(nv);
-    std::vector<int> faces_of(nv, 0);
-    std::vector<bool> clamped_part(nv, false);
-    bool any_fixed = false;
-    for (int v = 0; v < nv; ++v)
-      if (referenced[v] && m_fixed[v]) {
-        fixed_of[find_root(parent, v)].push_back(v);
-        any_fixed = true;
-      }
-    for (int f = 0; f < nf; ++f) ++faces_of[find_root(parent, F(f, 0))];
-    for (const ClampHinge& ch : m_clamps) clamped_part[find_root(parent, ch.v[0])] = true;
-    for (const ShellBend& b : m_bends)
-      for (int i = 0; i < 3; ++i)
-        if (b.rest.across[i] == PatchNode::Ghost) clamped_part[find_root(parent, F(b.face, 0))] = true;
-    if (!any_fixed)
-      throw SolveError(
-          "the model is not supported: no fixed vertices, so a rigid motion is possible (add a support "
-          "that pins or clamps part of the surface)");
-    // Bounding box of every part, for a scale-aware collinearity tolerance and a message a user
-    // can place.
-    std::vector<Vec3> part_lo(nv, Vec3::Constant(INFINITY)), part_hi(nv, Vec3::Constant(-INFINITY));
-    for (int v = 0; v < nv; ++v) {
-      if (!referenced[v]) continue;
-      const int r = find_root(parent, v);
-      part_lo[r] = part_lo[r].cwiseMin(X.row(v).transpose());
-      part_hi[r] = part_hi[r].cwiseMax(X.row(v).transpose());
-    }
-    for (int r = 0; r < nv; ++r) {
-      if (faces_of[r] == 0) continue;
-      const Vec3 centre = 0.5 * (part_lo[r] + part_hi[r]);
-      const double size = (part_hi[r] - part_lo[r]).norm();
-      const auto& fx = fixed_of[r];
-      if (fx.empty())
-        throw SolveError(fmt::format(
-            "the model is not supported: the part of the mesh with {} triangles around {} has no "
-            "fixed vertices, so a rigid motion is possible (support it as well)",
-            faces_of[r], point_text(centre)));
-      // Spread of the supports: the largest distance from the line through the two farthest ones.
-      const Vec3 p0 = X.row(fx[0]);
-      int far = fx[0];
-      for (int v : fx)
-        if ((X.row(v).transpose() - p0).norm() > (X.row(far).transpose() - p0).norm()) far = v;
-      const Vec3 dir = X.row(far).transpose() - p0;
-      double off_line = 0;
-      if (dir.norm() > 1e-12 * size) {
-        const Vec3 u = dir.normalized();
-        for (int v : fx) {
-          const Vec3 q = X.row(v).transpose() - p0;
-          off_line = std::max(off_line, (q - q.dot(u) * u).norm());
-        }
-      }
-      if (off_line <= 1e-9 * size && !clamped_part[r]) {
-        throw SolveError(fmt::format(
-            "the model is not supported: the supports of the part with {} triangles around {} {}, "
-            "so it can rotate rigidly about them (pin a third point off that line, or clamp an edge)",
-            faces_of[r], point_text(centre),
-            dir.norm() > 1e-12 * size ? "lie on one line" : "are a single point"));
-      }
-    }
-  }
+  check_supports(mesh, referenced, m_fixed, m_clamps, m_bends);
 
   // --- loads must load the free part ----------------------------------------------------------
-  {
-    bool loaded = false;
-    for (int v = 0; v < nv && !loaded; ++v)
-      loaded = m_vertex_node[v] >= 0 && lc.forces.row(v).squaredNorm() > 0;
-    if (!loaded && m_stiffness.areal_mass > 0 && lc.gravity.squaredNorm() > 0) loaded = true;
-    if (!loaded)
-      throw SolveError(
-          "the load case applies no load to the free part of the shell (all forces are zero or act on "
-          "supported vertices, and there is no self-weight): add a load");
-  }
+  bool loaded = false;
+  for (int v = 0; v < nv && !loaded; ++v)
+    loaded = m_vertex_node[v] >= 0 && lc.forces.row(v).squaredNorm() > 0;
+  if (!loaded && m_stiffness.areal_mass > 0 && lc.gravity.squaredNorm() > 0) loaded = true;
+  if (!loaded)
+    throw SolveError(
+        "the load case applies no load to the free part of the shell (all forces are zero or act on "
+        "supported vertices, and there is no self-weight): add a load");
 
-  // --- assembly pattern over the free nodes -----------------------------------------------------
-  std::vector<BlockAssembly::ElementNodes> element_nodes;
-  element_nodes.reserve(num_elements());
-  auto node = [&](int v) { return m_vertex_node[v]; };
-  auto node_or_none = [&](int v) { return v < 0 ? -1 : m_vertex_node[v]; };
-  for (int f = 0; f < nf; ++f) element_nodes.push_back(BlockAssembly::nodes({node(F(f, 0)), node(F(f, 1)), node(F(f, 2))}));
-  for (const ShellBend& b : m_bends) {
-    BlockAssembly::ElementNodes en;
-    for (int a = 0; a < 6; ++a) en[a] = node_or_none(b.v[a]);
-    element_nodes.push_back(en);
-  }
-  for (const ShellHinge& h : m_hinges)
-    element_nodes.push_back(BlockAssembly::nodes({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])}));
-  for (const ClampHinge& c : m_clamps)
-    element_nodes.push_back(BlockAssembly::nodes({node(c.v[0]), node(c.v[1]), node(c.v[2])}));
-  m_assembly = BlockAssembly(num_nodes(), element_nodes);
+  m_assembly = assembly_pattern(*this);
 }
 
 bool ShellModel::edge_clamped(int a, int b) const { return m_load_case.clamped[a] && m_load_case.clamped[b]; }

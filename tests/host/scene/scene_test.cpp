@@ -112,6 +112,50 @@ TEST(Scene, RoundTripIsExact) {
   }
 }
 
+// The names are mapped to enum values by explicit tables: every name reads as its own value
+// and is written back under the same name (a table out of step with an enum fails here).
+TEST(Scene, NamesMapToTheirValuesBothWays) {
+  const std::pair<const char*, StructuralObjective> objectives[] = {
+      {"none", StructuralObjective::None},
+      {"energy_density", StructuralObjective::EnergyDensity},
+      {"adaptive", StructuralObjective::Adaptive},
+      {"compliance", StructuralObjective::Compliance}};
+  for (const auto& [name, value] : objectives) {
+    json d = minimal_scene();
+    d["structure"] = {{"objective", name}};
+    const Scene s = parse_scene(d, "test.json");
+    EXPECT_EQ(s.structure.objective, value) << name;
+    EXPECT_EQ(scene_to_json(s)["structure"]["objective"], name);
+  }
+  const std::pair<const char*, Entity> entities[] = {{"vertices", Entity::Vertices},
+                                                     {"boundary_vertices", Entity::BoundaryVertices},
+                                                     {"edges", Entity::Edges},
+                                                     {"boundary_edges", Entity::BoundaryEdges},
+                                                     {"faces", Entity::Faces}};
+  for (const auto& [name, value] : entities) {
+    json d = minimal_scene();
+    d["supports"][0]["select"]["entity"] = name;
+    const Scene s = parse_scene(d, "test.json");
+    EXPECT_EQ(s.supports[0].select.entity, value) << name;
+    EXPECT_EQ(scene_to_json(s)["supports"][0]["select"]["entity"], name);
+  }
+  const std::pair<json, LoadKind> loads[] = {
+      {{{"type", "point"}, {"force", {0, 0, -1}}, {"select", {{"entity", "vertices"}}}}, LoadKind::Point},
+      {{{"type", "edge"}, {"force", {0, 0, -1}}}, LoadKind::Edge},
+      {{{"type", "area"}, {"force", {0, 0, -1}}}, LoadKind::Area},
+      {{{"type", "pressure"}, {"pressure", -1}}, LoadKind::Pressure},
+      {{{"type", "self_weight"}}, LoadKind::SelfWeight}};
+  for (const auto& [load, value] : loads) {
+    json d = minimal_scene();
+    d["loads"] = json::array({load});
+    if (!d["loads"][0].contains("select") && value != LoadKind::SelfWeight)
+      d["loads"][0]["select"] = json::object();  // the load's own default entity
+    const Scene s = parse_scene(d, "test.json");
+    EXPECT_EQ(s.loads[0].kind, value) << load.dump();
+    EXPECT_EQ(scene_to_json(s)["loads"][0]["type"], load["type"]);
+  }
+}
+
 TEST(Scene, EveryBuiltinSceneBuildsAndResolves) {
   ASSERT_GE(builtin_scenes().size(), 6u);
   for (const auto& b : builtin_scenes()) {
