@@ -276,7 +276,7 @@ LbfgsbState lbfgsb_from(const json& j, Eigen::Index n) {
 
 json phase_json(const PhaseSnapshot& p) {
   const JointOptimizerState& o = p.optimizer;
-  json optimizer = {{"layout", layout_json(o.layout)}, {"lower", vec(o.lower)}, {"upper", vec(o.upper)},
+  json optimizer = {{"layout", layout_json(o.layout)}, {"matched_types", o.matched_types}, {"lower", vec(o.lower)}, {"upper", vec(o.upper)},
                     {"angle0", vec(o.angle0)}, {"used", o.used}, {"scale", number(o.scale)}, {"round", o.round},
                     {"best_round_end", number(o.best_round_end)}, {"stalled_rounds", o.stalled_rounds},
                     {"lbfgsb", p.lbfgsb ? lbfgsb_json(*p.lbfgsb) : json(nullptr)}};
@@ -292,6 +292,8 @@ PhaseResume phase_from(const json& j) {
   JointOptimizerState& st = p.optimizer;
   st.layout = layout_from(o.at("layout"));
   const Eigen::Index S = Eigen::Index(st.layout.size());
+  st.matched_types = o.at("matched_types").get<std::vector<int>>();
+  if (Eigen::Index(st.matched_types.size()) != S) throw std::invalid_argument("matched types do not fit the layout");
   st.lower = vec(o.at("lower"), S);
   st.upper = vec(o.at("upper"), S);
   st.angle0 = vec(o.at("angle0"), S);

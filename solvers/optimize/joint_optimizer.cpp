@@ -208,8 +208,10 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const JointOpt
     st.lbfgsb.reset();
     inner = resume->lbfgsb ? &*resume->lbfgsb : nullptr;
     layout = st.layout;
-    if (exemplar && st.round > 0) {  // the last round's matching, which the next compares with
-      energy.rematch(layout);
+    if (exemplar && st.round > 0) {  // the last round's matching (before its type vote)
+      StencilLayout before_vote = layout;
+      for (size_t i = 0; i < layout.size(); ++i) before_vote[i].type = st.matched_types.at(i);
+      energy.rematch(before_vote);
       previous = energy.neighborhoods();
       matched = true;
     }
@@ -221,7 +223,11 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const JointOpt
   }
   bool stopped_by_callback = false;
   while (st.used < budget && !layout.empty() && !stopped_by_callback) {
-    if (!matched) energy.rematch(layout);
+    if (!matched) {
+      energy.rematch(layout);
+      st.matched_types.resize(layout.size());
+      for (size_t i = 0; i < layout.size(); ++i) st.matched_types[i] = layout[i].type;
+    }
     matched = false;
     st.layout = layout;
     if (!inner && options.checkpoint) options.checkpoint(st, nullptr);
@@ -247,6 +253,7 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const JointOpt
     if (exemplar) {
       energy.rematch(layout);
       matched = true;  // MWT11: match, vote, then optimise against this matching
+      for (size_t i = 0; i < layout.size(); ++i) st.matched_types[i] = layout[i].type;
       const int changes = det_vote_types(*ctx.exemplar(), energy.neighborhoods(), layout);
       stats.type_changes += changes;
       // Converged without moving and no vote changed a type: the next round would start from

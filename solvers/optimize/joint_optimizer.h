@@ -68,6 +68,9 @@ double joint_objective(const PatternEnergy& energy, JointTerm* joint, double w_P
 /// was, bit for bit (the energy's matching is a function of the layout and is recomputed).
 struct JointOptimizerState {
   StencilLayout layout;                 ///< at the start of the current round
+  /// The stencil types the current round's DET matching was made with (#S): after a round the
+  /// layout is matched, then the types are voted, so they may differ from the layout's.
+  std::vector<int> matched_types;
   Eigen::VectorXd lower, upper;         ///< the call's scale bounds (#S, m)
   Eigen::VectorXd angle0;               ///< the call's start angles (#S, rad)
   int used = 0;                         ///< iterations of the call's budget spent
