@@ -3,6 +3,7 @@
 // fields.ply, cut.obj and the designer's files (host/export/design_files.h).
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -121,7 +122,7 @@ class Checkpointer {
     const bool due = end || (m_interval > 0 && m_since.seconds() >= m_interval);
     if (!due && !g_stop_signal) return;
     Stopwatch sw;
-    m_bytes = write_checkpoint(m_dir, m_fingerprint, state);
+    m_bytes = std::max(m_bytes, write_checkpoint(m_dir, m_fingerprint, state));
     m_seconds += sw.seconds();
     ++m_count;
     m_written = true;
@@ -145,7 +146,7 @@ class Checkpointer {
                       signal);
   }
 
-  /// Checkpoints written, their total write time (s) and the last one's size (bytes).
+  /// Checkpoints written, their total write time (s) and the largest one's size (bytes).
   int count() const { return m_count; }
   double seconds() const { return m_seconds; }
   std::uintmax_t bytes() const { return m_bytes; }
@@ -255,7 +256,7 @@ void run_design_command(const DesignCommandOptions& opts) {
     checkpoint.interrupted(opts.run.out);
   }
   if (checkpoint.count() > 0)
-    notes.push_back(fmt::format("{} checkpoint(s) written in {:.3f} s, the last {:.1f} kB", checkpoint.count(),
+    notes.push_back(fmt::format("{} checkpoint(s) written in {:.3f} s, the largest {:.1f} kB", checkpoint.count(),
                                 checkpoint.seconds(), checkpoint.bytes() / 1e3));
 
   // Everything is computed before anything is written; then staged and published as one set: a
