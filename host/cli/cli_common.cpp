@@ -120,7 +120,7 @@ ProgressLine::ProgressLine(const RunOptions& opts)
 
 ProgressLine::~ProgressLine() { finish(); }
 
-void ProgressLine::update(const std::string& phase, const PatternProgress& p) {
+void ProgressLine::update(const std::string& phase, const solvers::PatternProgress& p) {
   if (m_log) {
     if (m_since_draw.seconds() < m_log_interval) return;
   } else if (!m_active || (m_dirty && m_since_draw.seconds() < 0.1)) {

@@ -13,7 +13,7 @@
 #include "host/scene/scene.h"
 #include "host/stencil/fill_ratio.h"
 #include "host/vulkan/backend.h"
-#include "solvers/optimize/pattern_phase.h"
+#include "solvers/optimize/pattern_progress.h"
 
 namespace CLI {
 class App;
@@ -83,7 +83,7 @@ class ProgressLine {
  public:
   explicit ProgressLine(const RunOptions& opts);
   ~ProgressLine();
-  void update(const std::string& phase, const PatternProgress& p);
+  void update(const std::string& phase, const solvers::PatternProgress& p);
   /// Shows a stage without iterations ("pattern context", "uncut equilibrium", "cut", "render
   /// W", …) with the elapsed time; always drawn (stages are rare).
   void stage(const std::string& name);

@@ -3,6 +3,7 @@
 // fields.ply, cut.obj and the designer's files (host/export/design_files.h).
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -39,10 +40,11 @@ struct DesignCommandOptions {
   int iterations = 0;
   OutputOptions outputs;
   bool resume = false;
+  double checkpoint_every = 60;  ///< seconds between checkpoints inside a phase (0: phase ends only)
 };
 
-// SIGINT / SIGTERM during a design: remembered here, acted on at the next progress report (the
-// optimiser's iterations), where the run can stop cleanly. A second signal ends it at once.
+// SIGINT / SIGTERM during a design: remembered here, acted on at the next optimiser boundary (a
+// checkpoint is written there and the run stops cleanly). A second signal ends it at once.
 volatile std::sig_atomic_t g_stop_signal = 0;
 extern "C" void on_stop_signal(int signal) {
   g_stop_signal = signal;
@@ -63,41 +65,120 @@ class StopSignals {
   void (*m_term)(int);
 };
 
-/// The checkpoint of a run (host/cli/checkpoint.h): removed when the run ends, unless it was
-/// interrupted (then it is what --resume continues from).
-struct CheckpointFile {
-  std::filesystem::path path;
-  bool written = false;
-  bool keep = false;
-  ~CheckpointFile() {
-    std::error_code ignore;
-    if (!keep) std::filesystem::remove(path, ignore);
-  }
-  [[noreturn]] void interrupted(const std::string& out) {
-    const int signal = g_stop_signal;
-    const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
-    keep = written;
-    if (written)
-      throw Interrupted(fmt::format("interrupted by {}: the pattern phase is checkpointed in {}; continue with the "
-                                    "same command and --resume",
-                                    name, path.string()),
-                        signal);
-    throw Interrupted(fmt::format("interrupted by {} before the first checkpoint (the end of the pattern phase): "
-                                  "nothing written into {}",
-                                  name, out),
-                      signal);
+/// Test hook (tests/cli/checkpoint_test.cpp): CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=SIGNAL[@STAGE[:N]]
+/// sends SIGNAL (KILL or TERM) to the run itself right after the N-th checkpoint (default 1) written
+/// at STAGE (pattern, pattern_end — the default —, structure, structure_end): a kill or a stop
+/// request at a known moment.
+struct TestSignal {
+  int signal = 0;
+  std::string stage = "pattern_end";
+  int count = 1;
+  static TestSignal from_environment() {
+    TestSignal t;
+    const char* hook = std::getenv("CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT");
+    if (!hook) return t;
+    std::string spec = hook;
+    const size_t at = spec.find('@');
+    const std::string name = spec.substr(0, at);
+    t.signal = name == "KILL" ? SIGKILL : name == "TERM" ? SIGTERM : 0;
+    if (at != std::string::npos) {
+      const std::string where = spec.substr(at + 1);
+      const size_t colon = where.find(':');
+      t.stage = where.substr(0, colon);
+      if (colon != std::string::npos) t.count = std::atoi(where.c_str() + colon + 1);
+    }
+    return t;
   }
 };
 
-/// Test hook (tests/cli/checkpoint_test.cpp): CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=KILL or TERM
-/// sends that signal to the run itself right after its checkpoint is written — a kill or a stop
-/// request at a known moment.
-void raise_test_signal_after_checkpoint() {
-  const char* hook = std::getenv("CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT");
-  if (!hook) return;
-  if (std::string(hook) == "KILL") std::raise(SIGKILL);
-  if (std::string(hook) == "TERM") std::raise(SIGTERM);
-}
+/// The checkpoints of a run (host/cli/checkpoint.h): written at optimiser boundaries once
+/// `interval` seconds have passed since the last (0: never inside a phase), at each phase end that
+/// something follows, and at the next boundary after SIGINT/SIGTERM, which then ends the run.
+/// Removed when the run ends, unless it was interrupted (then it is what --resume continues from).
+class Checkpointer {
+ public:
+  Checkpointer(std::filesystem::path dir, nlohmann::json fingerprint, double interval, bool structure)
+      : m_dir(std::move(dir)),
+        m_path(checkpoint_path(m_dir)),
+        m_fingerprint(std::move(fingerprint)),
+        m_interval(interval),
+        m_structure(structure),
+        m_test(TestSignal::from_environment()) {}
+  Checkpointer(const Checkpointer&) = delete;
+  Checkpointer& operator=(const Checkpointer&) = delete;
+  ~Checkpointer() {
+    std::error_code ignore;
+    if (!m_keep) std::filesystem::remove(m_path, ignore);
+  }
+
+  const std::filesystem::path& path() const { return m_path; }
+  /// A resumed run: the checkpoint it started from is kept if the run is interrupted again.
+  void resumed() { m_written = true; }
+
+  /// The hook of solvers::DesignOptions::checkpoint.
+  void operator()(const solvers::DesignSnapshot& state) {
+    const bool end = state.stage == solvers::DesignStage::PatternEnd || state.stage == solvers::DesignStage::StructureEnd;
+    if (state.stage == solvers::DesignStage::PatternEnd && !m_structure) return;  // nothing would follow it
+    const bool due = end || (m_interval > 0 && m_since.seconds() >= m_interval);
+    if (!due && !g_stop_signal) return;
+    Stopwatch sw;
+    m_bytes = std::max(m_bytes, write_checkpoint(m_dir, m_fingerprint, state));
+    m_seconds += sw.seconds();
+    ++m_count;
+    m_written = true;
+    m_stage = state.stage;
+    m_since.restart();
+    raise_test_signal(state.stage);
+    if (g_stop_signal) interrupted("");
+  }
+
+  /// Ends the run after SIGINT/SIGTERM with one message (exit 130/143).
+  [[noreturn]] void interrupted(const std::string& out) {
+    const int signal = g_stop_signal;
+    const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+    m_keep = m_written;
+    if (m_written)
+      throw Interrupted(fmt::format("interrupted by {}: the design is checkpointed ({}) in {}; continue with the "
+                                    "same command and --resume",
+                                    name, stage_description(m_stage), m_path.string()),
+                        signal);
+    throw Interrupted(fmt::format("interrupted by {} before the first checkpoint: nothing written into {}", name, out),
+                      signal);
+  }
+
+  /// Checkpoints written, their total write time (s) and the largest one's size (bytes).
+  int count() const { return m_count; }
+  double seconds() const { return m_seconds; }
+  std::uintmax_t bytes() const { return m_bytes; }
+
+ private:
+  void raise_test_signal(solvers::DesignStage stage) {
+    if (!m_test.signal || m_test.stage != stage_key(stage) || ++m_test_seen != m_test.count) return;
+    std::raise(m_test.signal);
+  }
+  static std::string stage_key(solvers::DesignStage stage) {
+    switch (stage) {
+      case solvers::DesignStage::Pattern: return "pattern";
+      case solvers::DesignStage::PatternEnd: return "pattern_end";
+      case solvers::DesignStage::Structure: return "structure";
+      case solvers::DesignStage::StructureEnd: return "structure_end";
+    }
+    return "";
+  }
+
+  std::filesystem::path m_dir, m_path;
+  nlohmann::json m_fingerprint;
+  double m_interval;
+  bool m_structure;
+  TestSignal m_test;
+  int m_test_seen = 0;
+  Stopwatch m_since;
+  bool m_written = false, m_keep = false;
+  solvers::DesignStage m_stage = solvers::DesignStage::PatternEnd;
+  int m_count = 0;
+  double m_seconds = 0;
+  std::uintmax_t m_bytes = 0;
+};
 
 void run_design_command(const DesignCommandOptions& opts) {
   auto threads = limit_threads(opts.run.threads);
@@ -150,35 +231,33 @@ void run_design_command(const DesignCommandOptions& opts) {
   dopt.structure = structure;
   dopt.fill = device.fill;
   if (opts.iterations > 0) dopt.pattern_iterations = dopt.structure_iterations = opts.iterations;
-  // Checkpoint at the end of the pattern phase; --resume continues from it (host/cli/checkpoint.h).
+  // Checkpoints inside and at the end of the phases; --resume continues from one (host/cli/checkpoint.h).
   const StopSignals stop_signals;
-  CheckpointFile checkpoint{checkpoint_path(out)};
-  const nlohmann::json fingerprint = checkpoint_fingerprint(scene, opts.iterations);
-  std::optional<PatternPhaseResult> resumed;
-  if (opts.resume) resumed = read_pattern_checkpoint(out, fingerprint);
+  Checkpointer checkpoint(out, checkpoint_fingerprint(scene, opts.iterations), opts.checkpoint_every, structure);
+  std::optional<solvers::DesignResume> resumed;
+  if (opts.resume) resumed = read_checkpoint(out, checkpoint_fingerprint(scene, opts.iterations));
   if (resumed) {
-    checkpoint.written = true;
-    dopt.resume_pattern = &*resumed;
-    notes.push_back("resumed from the checkpoint of the pattern phase in " + checkpoint.path.string());
+    checkpoint.resumed();
+    dopt.resume = &*resumed;
+    notes.push_back(fmt::format("resumed from the checkpoint in {} ({})", checkpoint.path().string(),
+                                stage_description(resumed->stage)));
   } else if (opts.resume) {
     notes.push_back("--resume: no checkpoint in " + out.string() + ", so the design started from the beginning");
   }
-  dopt.pattern_done = [&](const PatternPhaseResult& pattern) {
-    if (!structure) return;  // nothing would follow it
-    write_pattern_checkpoint(out, fingerprint, pattern);
-    checkpoint.written = true;
-    raise_test_signal_after_checkpoint();
-    if (g_stop_signal) checkpoint.interrupted(opts.run.out);
-  };
-  dopt.progress = [&](const std::string& phase, const PatternProgress& p) {
-    if (g_stop_signal) {
-      progress.finish();
-      checkpoint.interrupted(opts.run.out);
-    }
+  dopt.checkpoint = [&](const solvers::DesignSnapshot& state) { checkpoint(state); };
+  dopt.progress = [&](const std::string& phase, const solvers::PatternProgress& p) {
     progress.update(phase, p);
     return true;
   };
   const solvers::DesignResult r = solvers::run_design(scene, meshes, load_case, ctx, dopt);
+
+  if (g_stop_signal) {
+    progress.finish();
+    checkpoint.interrupted(opts.run.out);
+  }
+  if (checkpoint.count() > 0)
+    notes.push_back(fmt::format("{} checkpoint(s) written in {:.3f} s, the largest {:.1f} kB", checkpoint.count(),
+                                checkpoint.seconds(), checkpoint.bytes() / 1e3));
 
   // Everything is computed before anything is written; then staged and published as one set: a
   // failed run leaves the folder as it was.
@@ -224,8 +303,13 @@ void add_design_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--resume", opts->resume,
                  "continue from the checkpoint a killed or interrupted run left in the output directory (written "
-                 "when the pattern phase ends; SIGINT/SIGTERM stop a run cleanly, keeping it): the same design as "
-                 "an uninterrupted run");
+                 "inside the phases every --checkpoint-every seconds and at each phase end; SIGINT/SIGTERM write "
+                 "one and stop the run cleanly): the same design as an uninterrupted run");
+  cmd->add_option("--checkpoint-every", opts->checkpoint_every,
+                  "seconds between checkpoints inside a phase, taken at the first optimiser iteration after the "
+                  "interval (0: only at phase ends)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
   cmd->callback([opts] { run_design_command(*opts); });
 }
 

@@ -7,6 +7,7 @@
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
 #include "host/core/input_file.h"
+#include "host/pattern/pattern_context.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
 #include "host/mesh/surface_mesh.h"

@@ -18,6 +18,7 @@
 #include "host/cut/cut_surface.h"
 #include "host/io/json_io.h"
 #include "host/mesh/mesh_io.h"
+#include "host/pattern/pattern_context.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
 #include "host/stencil/frame.h"

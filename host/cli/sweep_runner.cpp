@@ -21,7 +21,7 @@
 #include "host/core/error.h"
 #include "host/io/json_io.h"
 #include "host/sweep/pareto_plot.h"
-#include "solvers/optimize/pattern_phase.h"
+#include "host/pattern/pattern_context.h"
 #include "solvers/report/design_report.h"
 
 namespace cutwork::cli {

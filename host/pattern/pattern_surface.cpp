@@ -24,6 +24,13 @@ Eigen::VectorXi layout_types(const StencilLayout& layout) {
   return out;
 }
 
+std::vector<StencilParams> layout_params(const StencilLayout& layout) {
+  std::vector<StencilParams> out;
+  out.reserve(layout.size());
+  for (const auto& s : layout) out.push_back({s.position, s.scale, s.angle, s.type});
+  return out;
+}
+
 PatternSurface::PatternSurface(const SurfaceMesh& mesh, const OrientationFieldOptions& field_options,
                                SizingField sizing, double boundary_cell)
     : m_mesh(&mesh),

@@ -29,6 +29,8 @@ using StencilLayout = std::vector<PlacedStencil>;
 RowMatX3d layout_positions(const StencilLayout& layout);
 Eigen::VectorXd layout_scales(const StencilLayout& layout);
 Eigen::VectorXi layout_types(const StencilLayout& layout);
+/// The layout as stencil parameters (position on the surface, scale, angle, type), #S.
+std::vector<StencilParams> layout_params(const StencilLayout& layout);
 
 class PatternSurface {
  public:

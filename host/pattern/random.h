@@ -5,6 +5,9 @@
 /// same seed gives the same layout bit for bit on every platform.
 #include <cstdint>
 #include <random>
+#include <stdexcept>
+#include <sstream>
+#include <string>
 
 namespace cutwork {
 
@@ -19,6 +22,22 @@ class PatternRng {
   int below(int n) {
     const int k = int(uniform() * n);
     return k < n ? k : n - 1;
+  }
+
+  /// The engine's complete state as text (the standard's format: the same on every platform),
+  /// for checkpoints; set_state() continues the sequence exactly. set_state throws
+  /// std::invalid_argument for text that is not such a state.
+  std::string state() const {
+    std::ostringstream out;
+    out << m_engine;
+    return out.str();
+  }
+  void set_state(const std::string& state) {
+    std::istringstream in(state);
+    std::mt19937_64 engine;
+    in >> engine;
+    if (in.fail()) throw std::invalid_argument("not a random generator state");
+    m_engine = engine;
   }
 
  private:

@@ -37,7 +37,7 @@
 #include "host/stencil/frame.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
-#include "solvers/optimize/pattern_phase.h"
+#include "host/pattern/pattern_context.h"
 
 namespace cutwork::solvers {
 

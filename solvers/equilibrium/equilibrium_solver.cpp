@@ -134,6 +134,23 @@ void EquilibriumSolver::reset() {
   m_factor_at_solution = false;
 }
 
+void EquilibriumSolver::restore_equilibrium(const RowMatX3d& x, const Eigen::VectorXd& alpha) {
+  m_model.check_fill_ratios(alpha);
+  if (x.rows() != m_model.rest_positions().rows())
+    throw SolveError("restore_equilibrium: the positions do not fit the model (an internal error in cutwork)");
+  assemble_shell(m_model, x, alpha, true, m_assembly);
+  if (!m_cholmod.factorize(m_assembly.hessian.data(), 0.0))
+    throw SolveError("restore_equilibrium: the Hessian is not positive definite there (not a stable equilibrium)");
+  m_x = x;
+  m_trial = x;
+  m_alpha = alpha;
+  m_forces = m_model.external_forces(alpha);
+  m_has_solution = true;
+  m_factor_at_solution = true;
+  m_factor_stale = false;
+  m_last_shift = 0;
+}
+
 RowMatX3d EquilibriumSolver::displacements() const { return m_x - m_model.rest_positions(); }
 
 double EquilibriumSolver::max_displacement() const {

@@ -120,6 +120,12 @@ class EquilibriumSolver {
 
   /// Forgets the warm start: the next solve starts from the rest state.
   void reset();
+  /// Makes `x` (#V×3, m) the last valid equilibrium at fill ratios `alpha` (#F), as a converged
+  /// stable solve leaves it: the factor of the Hessian there (what Newton–Krylov preconditions
+  /// the next solve with, and the adjoint uses). Checkpoints: solves after it are bit for bit
+  /// those after the solve that found `x`. Throws SolveError when the Hessian at `x` is not
+  /// positive definite (not a stable equilibrium).
+  void restore_equilibrium(const RowMatX3d& x, const Eigen::VectorXd& alpha);
 
   /// The last valid equilibrium: positions (#V×3, m) and its fill ratios (#F). Before the first
   /// successful solve: the rest state and an empty alpha.

@@ -17,6 +17,59 @@ DesignState evaluate_design(StencilledShell& shell, const PatternContext& ctx, c
   return d;
 }
 
+namespace {
+
+/// The pattern phase, or what a checkpoint says of it.
+PatternPhaseResult pattern_phase(PatternContext& ctx, const DesignOptions& options) {
+  const DesignResume* resume = options.resume;
+  if (resume && resume->stage != DesignStage::Pattern) return resume->pattern;
+  PatternPhaseOptions po;
+  po.max_iterations = options.pattern_iterations;
+  if (options.progress) po.progress = [&](const PatternProgress& p) { return options.progress("pattern", p); };
+  if (options.checkpoint)
+    po.checkpoints.save = [&](const PatternPhaseResult& partial, const PhaseSnapshot& phase) {
+      options.checkpoint({DesignStage::Pattern, partial, nullptr, &phase, nullptr, nullptr});
+    };
+  if (resume) {
+    po.checkpoints.resume_result = &resume->pattern;
+    po.checkpoints.resume = &resume->phase;
+  }
+  PatternPhaseResult pattern = run_pattern_phase(ctx, po);
+  if (options.checkpoint) options.checkpoint({DesignStage::PatternEnd, pattern, nullptr, nullptr, nullptr, nullptr});
+  return pattern;
+}
+
+/// The structural phase (from the pattern design), or what a checkpoint says of it; the shell is
+/// restored to a checkpoint's state first.
+StructurePhaseResult structure_phase(const Scene& scene, PatternContext& ctx, StencilledShell& shell,
+                                     const DesignResult& r, const DesignOptions& options) {
+  const DesignResume* resume = options.resume;
+  if (resume && resume->stage != DesignStage::Structure && resume->stage != DesignStage::StructureEnd) resume = nullptr;
+  if (resume) shell.restore_equilibrium(resume->shell_stencils, resume->equilibrium);
+  if (resume && resume->stage == DesignStage::StructureEnd) return resume->structure;
+  StructurePhaseOptions so;
+  so.max_iterations = options.structure_iterations;
+  so.seed = scene.pattern.seed;
+  if (options.progress) so.progress = [&](const PatternProgress& p) { return options.progress("structure", p); };
+  if (options.checkpoint)
+    so.checkpoints.save = [&](const StructurePhaseResult& partial, const PhaseSnapshot& phase) {
+      options.checkpoint({DesignStage::Structure, r.pattern, &partial, &phase, &shell.stencils(),
+                          &shell.solver().positions()});
+    };
+  if (resume) {
+    so.checkpoints.resume_result = &resume->structure;
+    so.checkpoints.resume = &resume->phase;
+  }
+  StructurePhaseResult structure =
+      run_structure_phase(ctx, shell, scene.structure, r.pattern.layout, r.uncut.summary.W_max, so);
+  if (options.checkpoint)
+    options.checkpoint({DesignStage::StructureEnd, r.pattern, &structure, nullptr, &shell.stencils(),
+                        &shell.solver().positions()});
+  return structure;
+}
+
+}  // namespace
+
 DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
                         PatternContext& ctx, const DesignOptions& options) {
   DesignResult r;
@@ -33,15 +86,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.timings.add("uncut", sw.seconds());
 
   sw.restart();
-  PatternPhaseOptions po;
-  po.max_iterations = options.pattern_iterations;
-  if (options.progress) po.progress = [&](const PatternProgress& p) { return options.progress("pattern", p); };
-  if (options.resume_pattern) {
-    r.pattern = *options.resume_pattern;
-  } else {
-    r.pattern = run_pattern_phase(ctx, po);
-    if (options.pattern_done) options.pattern_done(r.pattern);
-  }
+  r.pattern = pattern_phase(ctx, options);
   r.timings.add("pattern", sw.seconds());
 
   sw.restart();
@@ -54,11 +99,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.layout = r.pattern.layout;
   if (options.structure && scene.structure.objective != cutwork::StructuralObjective::None) {
     sw.restart();
-    StructurePhaseOptions so;
-    so.max_iterations = options.structure_iterations;
-    so.seed = scene.pattern.seed;
-    if (options.progress) so.progress = [&](const PatternProgress& p) { return options.progress("structure", p); };
-    r.structure = run_structure_phase(ctx, shell, scene.structure, r.pattern.layout, r.uncut.summary.W_max, so);
+    r.structure = structure_phase(scene, ctx, shell, r, options);
     r.layout = r.structure->layout;
     r.timings.add("structure", sw.seconds());
   }

@@ -21,6 +21,36 @@
 
 namespace cutwork::solvers {
 
+/// Where a design is at a checkpoint.
+enum class DesignStage {
+  Pattern,       ///< inside the pattern phase
+  PatternEnd,    ///< the pattern phase has ended
+  Structure,     ///< inside the structural phase
+  StructureEnd,  ///< the structural phase has ended
+};
+
+/// A design's state at a checkpoint, by reference to the live objects (valid during the call).
+struct DesignSnapshot {
+  DesignStage stage;
+  const PatternPhaseResult& pattern;            ///< so far (Pattern), else complete
+  const StructurePhaseResult* structure;        ///< so far (Structure), complete (StructureEnd), else null
+  const PhaseSnapshot* phase;                   ///< inside a phase (Pattern, Structure), else null
+  /// The shell in the structural phase (Structure, StructureEnd; else null): the stencils of its
+  /// fill ratios and its last equilibrium (#V×3, m), which warm-starts the next solve.
+  const std::vector<StencilParams>* shell_stencils;
+  const RowMatX3d* equilibrium;
+};
+
+/// A design's state read back from a checkpoint: run_design continues from it.
+struct DesignResume {
+  DesignStage stage = DesignStage::PatternEnd;
+  PatternPhaseResult pattern;                   ///< (see DesignSnapshot)
+  StructurePhaseResult structure;               ///< Structure, StructureEnd
+  PhaseResume phase;                            ///< Pattern, Structure
+  std::vector<StencilParams> shell_stencils;    ///< Structure, StructureEnd
+  RowMatX3d equilibrium;                        ///< Structure, StructureEnd
+};
+
 struct DesignOptions {
   bool structure = true;           ///< run the structural phase (when the scene has an objective)
   FillRatioOptions fill;           ///< kernel backend of the fill ratios
@@ -28,12 +58,13 @@ struct DesignOptions {
   int structure_iterations = -1;   ///< −1: the scene's structure.max_iterations
   /// Progress of either phase ("pattern", "structure"); return false to stop that phase early.
   std::function<bool(const std::string& phase, const PatternProgress&)> progress;
-  /// Checkpoints (`cutwork design --resume`): called with the pattern phase's result as soon as
-  /// the phase has ended, before anything else runs.
-  std::function<void(const PatternPhaseResult&)> pattern_done;
-  /// A pattern phase's result from a checkpoint: used instead of running the phase (the rest of
-  /// the design then runs exactly as after that phase).
-  const PatternPhaseResult* resume_pattern = nullptr;
+  /// Checkpoints (`cutwork design --resume`, host/cli/checkpoint.h): called at every optimiser
+  /// iteration boundary inside the phases and at each phase end; when and what to save is the
+  /// caller's (an exception it throws ends the design).
+  std::function<void(const DesignSnapshot&)> checkpoint;
+  /// A checkpoint to continue from: the design then runs exactly (bit for bit on the CPU) as the
+  /// run that saved it did after that point.
+  const DesignResume* resume = nullptr;
 };
 
 /// A design's equilibrium and what the report says of it.

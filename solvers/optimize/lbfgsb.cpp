@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <stdexcept>
 
-#include <LBFGSB.h>
+#include <LBFGSpp/BFGSMat.h>
+#include <LBFGSpp/Cauchy.h>
+#include <LBFGSpp/Param.h>
+#include <LBFGSpp/SubspaceMin.h>
 
 namespace cutwork {
 
@@ -20,27 +24,43 @@ struct NonFiniteValue : std::runtime_error {
   NonFiniteValue() : std::runtime_error("the objective returned a non-finite value or gradient") {}
 };
 
+/// An exception of the caller's (callback, checkpoint) on its way out: not a std::exception, so
+/// that the restart handler, which treats std::exceptions as failed line searches, lets it pass.
+struct Propagate {
+  std::exception_ptr error;
+};
+
+/// Calls `f`, wrapping what it throws in Propagate.
+template <typename F>
+auto propagating(F&& f) {
+  try {
+    return f();
+  } catch (...) {
+    throw Propagate{std::current_exception()};
+  }
+}
+
+/// The objective as the quasi-Newton loop sees it: evaluations counted and cached, the best point
+/// kept, accepted iterates recorded. Its state lives in the LbfgsbState.
 class Tracker {
  public:
-  Tracker(const LbfgsbObjective& f, const LbfgsbCallback& cb, int max_iterations,
-          LbfgsbResult& result)
-      : m_f(f), m_cb(cb), m_max_iterations(max_iterations), m_result(result) {}
+  Tracker(const LbfgsbObjective& f, const LbfgsbCallback& cb, int max_iterations, LbfgsbState& state)
+      : m_f(f), m_cb(cb), m_max_iterations(max_iterations), m_st(state), m_result(state.result) {}
 
   double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& g) {
-    if (m_cached && x.size() == m_cache_x.size() && x == m_cache_x) {
-      g = m_cache_g;
-      return m_cache_f;
+    if (m_st.cache_x.size() > 0 && x.size() == m_st.cache_x.size() && x == m_st.cache_x) {
+      g = m_st.cache_gradient;
+      return m_st.cache_f;
     }
     ++m_result.evaluations;
     g.resize(x.size());
     const double v = m_f(x, g);
     if (!std::isfinite(v) || !g.allFinite()) throw NonFiniteValue();
-    m_cached = true;
-    m_cache_x = x;
-    m_cache_g = g;
-    m_cache_f = v;
-    if (!m_has_best || v < m_result.f) {
-      m_has_best = true;
+    const bool first = m_st.cache_x.size() == 0;
+    m_st.cache_x = x;
+    m_st.cache_gradient = g;
+    m_st.cache_f = v;
+    if (first || v < m_result.f) {
       m_result.f = v;
       m_result.x = x;
     }
@@ -52,25 +72,23 @@ class Tracker {
   void accepted(const Eigen::VectorXd& x, double f, const Eigen::VectorXd& s, const Eigen::VectorXd& y) {
     const double sy = s.dot(y), yy = y.squaredNorm();
     if (sy > 0 && yy > 0) m_result.scale = sy / yy;
-    m_first_of_run = false;
+    m_st.first_of_run = false;
     ++m_result.iterations;
     m_result.history.push_back(f);
-    if (m_cb && !m_cb(m_result.iterations, x, f)) throw StopRequested{"callback"};
+    if (m_cb && !propagating([&] { return m_cb(m_result.iterations, x, f); })) throw StopRequested{"callback"};
     if (m_max_iterations > 0 && m_result.iterations >= m_max_iterations)
       throw StopRequested{"iterations"};
   }
 
-  bool has_best() const { return m_has_best; }
-
-  /// A new LBFGSpp run (start or restart): its first step gets scaled.
-  void start_run() { m_first_of_run = true; }
+  /// A new quasi-Newton run (start or restart): its first step gets scaled.
+  void start_run() { m_st.first_of_run = true; }
 
   /// The line search's first trial step along `drt` (slope dg = ∇f·drt): LBFGSpp's `step` except
   /// on a run's first iteration, where LBFGSpp's direction has unit length whatever the scale of
   /// x; there the step is the one an inverse Hessian γI would take, γ the last sᵀy/yᵀy (this
   /// call's, else options.first_scale) when there is one.
   double initial_step(double step, double step_max, double dg, double drt_squared_norm) const {
-    if (!m_first_of_run || !(drt_squared_norm > 0)) return step;
+    if (!m_st.first_of_run || !(drt_squared_norm > 0)) return step;
     const double gamma = m_result.scale > 0 ? m_result.scale : m_first_scale;
     return gamma > 0 ? std::min(step_max, gamma * std::abs(dg) / drt_squared_norm) : step;
   }
@@ -80,13 +98,9 @@ class Tracker {
   const LbfgsbObjective& m_f;
   const LbfgsbCallback& m_cb;
   int m_max_iterations;
+  LbfgsbState& m_st;
   LbfgsbResult& m_result;
-  bool m_has_best = false;
-  bool m_first_of_run = true;
   double m_first_scale = 0;
-  bool m_cached = false;
-  Eigen::VectorXd m_cache_x, m_cache_g;
-  double m_cache_f = 0;
 };
 
 /// Armijo backtracking with safeguarded quadratic interpolation, replacing LBFGSpp's Moré–Thuente
@@ -133,21 +147,125 @@ class ArmijoLineSearch {
   }
 };
 
+using Vector = Eigen::VectorXd;
+
+/// One quasi-Newton run (the start or a restart): LBFGSpp's LBFGSBSolver::minimize, operation for
+/// operation, with its state in an LbfgsbState instead of the solver's private members.
+class QuasiNewtonRun {
+ public:
+  QuasiNewtonRun(const LBFGSpp::LBFGSBParam<double>& param, const Vector& lb, const Vector& ub, LbfgsbState& state)
+      : m_param(param), m_lb(lb), m_ub(ub), m_st(state) {}
+
+  /// Starts at the best point so far (minimize up to its loop). True when it is a minimiser.
+  bool begin(Tracker& f) {
+    const int n = int(m_lb.size());
+    m_st.x = m_st.result.x.cwiseMax(m_lb).cwiseMin(m_ub);
+    m_bfgs.reset(n, m_param.m);
+    m_st.s.clear();
+    m_st.y.clear();
+    m_st.k = 1;
+    m_st.gradient.resize(n);
+    if (m_param.past > 0) m_st.f_past.setZero(m_param.past);
+    m_st.f = f(m_st.x, m_st.gradient);
+    if (m_param.past > 0) m_st.f_past[0] = m_st.f;
+    if (converged()) return true;
+    LBFGSpp::Cauchy<double>::get_cauchy_point(m_bfgs, m_st.x, m_st.gradient, m_lb, m_ub, m_xcp, m_vecc, m_newact_set,
+                                              m_fv_set);
+    m_st.direction.noalias() = m_xcp - m_st.x;
+    m_st.direction.normalize();
+    return false;
+  }
+
+  /// Continues a run from a checkpointed state: the L-BFGS matrix is rebuilt from its pairs.
+  void rebuild() {
+    m_bfgs.reset(int(m_lb.size()), m_param.m);
+    for (size_t i = 0; i < m_st.s.size(); ++i) m_bfgs.add_correction(m_st.s[i], m_st.y[i]);
+  }
+
+  /// Iterates until LBFGSpp's tests say converged (returns); throws StopRequested, line-search
+  /// failures and Propagate.
+  void iterate(Tracker& f, const LbfgsbCheckpoint& checkpoint) {
+    const double eps = std::numeric_limits<double>::epsilon();
+    const int fpast = m_param.past;
+    Vector xp, gradp, vecs, vecy;
+    for (;;) {
+      xp.noalias() = m_st.x;
+      gradp.noalias() = m_st.gradient;
+      double step_max = std::min(m_param.max_step, max_step_size(m_st.x, m_st.direction));
+      double step = std::min(1.0, step_max);
+      ArmijoLineSearch<double>::LineSearch(f, m_st.f, m_st.x, m_st.gradient, step, step_max, m_st.direction, xp,
+                                           m_param);
+      if (converged()) return;
+      if (fpast > 0) {
+        const double fx = m_st.f, fxd = m_st.f_past[m_st.k % fpast];
+        if (m_st.k >= fpast &&
+            std::abs(fxd - fx) <= m_param.delta * std::max(std::max(std::abs(fx), std::abs(fxd)), 1.0))
+          return;
+        m_st.f_past[m_st.k % fpast] = fx;
+      }
+      if (m_param.max_iterations != 0 && m_st.k >= m_param.max_iterations) return;
+      vecs.noalias() = m_st.x - xp;
+      vecy.noalias() = m_st.gradient - gradp;
+      if (vecs.dot(vecy) > eps * vecy.squaredNorm()) {
+        m_bfgs.add_correction(vecs, vecy);
+        m_st.s.push_back(vecs);
+        m_st.y.push_back(vecy);
+      }
+      m_st.x.noalias() = m_st.x.cwiseMax(m_lb).cwiseMin(m_ub);
+      LBFGSpp::Cauchy<double>::get_cauchy_point(m_bfgs, m_st.x, m_st.gradient, m_lb, m_ub, m_xcp, m_vecc,
+                                                m_newact_set, m_fv_set);
+      LBFGSpp::SubspaceMin<double>::subspace_minimize(m_bfgs, m_st.x, m_xcp, m_st.gradient, m_lb, m_ub, m_vecc,
+                                                      m_newact_set, m_fv_set, m_param.max_submin,
+                                                      m_st.direction);
+      ++m_st.k;
+      if (checkpoint) propagating([&] { checkpoint(m_st); });
+    }
+  }
+
+ private:
+  /// LBFGSpp's gradient test on the projected gradient.
+  bool converged() const {
+    const double pg = ((m_st.x - m_st.gradient).cwiseMax(m_lb).cwiseMin(m_ub) - m_st.x).cwiseAbs().maxCoeff();
+    return pg <= m_param.epsilon || pg <= m_param.epsilon_rel * m_st.x.norm();
+  }
+  /// The largest step along `drt` from `x0` that stays within the bounds.
+  double max_step_size(const Vector& x0, const Vector& drt) const {
+    double step = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < x0.size(); ++i) {
+      if (drt[i] > 0)
+        step = std::min(step, (m_ub[i] - x0[i]) / drt[i]);
+      else if (drt[i] < 0)
+        step = std::min(step, (m_lb[i] - x0[i]) / drt[i]);
+    }
+    return step;
+  }
+
+  const LBFGSpp::LBFGSBParam<double>& m_param;
+  const Vector& m_lb;
+  const Vector& m_ub;
+  LbfgsbState& m_st;
+  LBFGSpp::BFGSMat<double, true> m_bfgs;
+  Vector m_xcp, m_vecc;
+  std::vector<int> m_newact_set, m_fv_set;
+};
+
 }  // namespace
 
 LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0,
                              const Eigen::VectorXd& lb, const Eigen::VectorXd& ub,
-                             const LbfgsbOptions& options, const LbfgsbCallback& callback) {
+                             const LbfgsbOptions& options, const LbfgsbCallback& callback,
+                             const LbfgsbCheckpoint& checkpoint, const LbfgsbState* resume) {
   if (lb.size() != x0.size() || ub.size() != x0.size())
     throw std::invalid_argument("minimize_lbfgsb: bounds and start must have the same size");
   if ((lb.array() > ub.array()).any())
     throw std::invalid_argument("minimize_lbfgsb: a lower bound exceeds its upper bound");
 
-  LbfgsbResult result;
-  Tracker tracker(f, callback, options.max_iterations, result);
+  LbfgsbState st = resume ? *resume : LbfgsbState{};
+  LbfgsbResult& result = st.result;
+  Tracker tracker(f, callback, options.max_iterations, st);
   tracker.set_first_scale(options.first_scale);
-  Eigen::VectorXd x = x0.cwiseMax(lb).cwiseMin(ub);
-  {
+  if (!resume) {
+    const Eigen::VectorXd x = x0.cwiseMax(lb).cwiseMin(ub);
     Eigen::VectorXd g;
     try {
       result.f_start = tracker(x, g);
@@ -160,11 +278,12 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
       return result;
     }
     result.history.push_back(result.f_start);
-  }
-  if (x.size() == 0 || options.max_iterations == 0) {
-    result.stop_reason = x.size() == 0 ? "gradient" : "iterations";
-    result.converged = x.size() == 0;
-    return result;
+    if (x.size() == 0 || options.max_iterations == 0) {
+      result.stop_reason = x.size() == 0 ? "gradient" : "iterations";
+      result.converged = x.size() == 0;
+      return result;
+    }
+    st.best_at_restart = result.f;
   }
 
   LBFGSpp::LBFGSBParam<double> param;
@@ -175,16 +294,21 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
   param.delta = options.relative_decrease;
   param.max_iterations = 0;  // the tracker enforces the cap across restarts
   param.max_linesearch = options.max_linesearch;
+  param.check_param();
 
-  double best_at_restart = result.f;
+  bool resumed_run = resume != nullptr;
   for (;;) {
-    LBFGSpp::LBFGSBSolver<double, ArmijoLineSearch> solver(param);
-    double fx = 0;
-    tracker.start_run();
+    QuasiNewtonRun run(param, lb, ub, st);
     try {
-      x = result.x;
-      solver.minimize(tracker, x, fx, lb, ub);
-      // LBFGSpp returned by its own tests: the projected gradient or the decrease.
+      if (resumed_run) {
+        resumed_run = false;
+        run.rebuild();
+        run.iterate(tracker, checkpoint);
+      } else {
+        tracker.start_run();
+        if (!run.begin(tracker)) run.iterate(tracker, checkpoint);
+      }
+      // The run ended by LBFGSpp's own tests: the projected gradient or the decrease.
       Eigen::VectorXd g;
       tracker(result.x, g);
       const double pg = ((result.x - g).cwiseMax(lb).cwiseMin(ub) - result.x).cwiseAbs().maxCoeff();
@@ -194,16 +318,18 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
     } catch (const StopRequested& s) {
       result.stop_reason = s.reason;
       break;
+    } catch (const Propagate& p) {
+      std::rethrow_exception(p.error);
     } catch (const std::exception& e) {
       // A failed line search or a non-descent direction: restart from the best point with a
       // fresh Hessian approximation, unless the last restart did not help.
-      const bool no_progress = result.restarts > 0 && !(result.f < best_at_restart);
+      const bool no_progress = result.restarts > 0 && !(result.f < st.best_at_restart);
       if (result.restarts >= options.max_restarts || no_progress) {
         result.stop_reason = std::string("line search: ") + e.what();
         break;
       }
       ++result.restarts;
-      best_at_restart = result.f;
+      st.best_at_restart = result.f;
     }
   }
   return result;

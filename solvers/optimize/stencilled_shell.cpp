@@ -17,6 +17,7 @@ StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_
 
 const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilParams> stencils) {
   m_num_stencils = int(stencils.size());
+  m_stencils.assign(stencils.begin(), stencils.end());
   m_derivatives = m_fill->options().derivatives && !stencils.empty();
   if (stencils.empty()) {
     m_alpha.setOnes(m_sim->num_faces());
@@ -42,6 +43,11 @@ const EquilibriumStats& StencilledShell::equilibrate() {
     m_times.equilibrium += sw.seconds();
     throw;
   }
+}
+
+void StencilledShell::restore_equilibrium(std::span<const StencilParams> stencils, const RowMatX3d& positions) {
+  set_stencils(stencils);
+  m_solver->restore_equilibrium(positions, m_alpha);
 }
 
 EquilibriumSummary StencilledShell::summary() const {

@@ -18,6 +18,7 @@
 /// symbolic analysis and the fill evaluator's device buffers are built once.
 #include <memory>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -45,8 +46,13 @@ class StencilledShell {
   /// α for `stencils`, with dα/dp when fill_options.derivatives (the default); an empty span
   /// gives the uncut shell (α = 1). Throws InputError for invalid stencils.
   const Eigen::VectorXd& set_stencils(std::span<const StencilParams> stencils);
-  /// The fill ratios of the last set_stencils (#F).
+  /// The fill ratios of the last set_stencils (#F), and its stencils.
   const Eigen::VectorXd& alpha() const { return m_alpha; }
+  const std::vector<StencilParams>& stencils() const { return m_stencils; }
+
+  /// Sets `stencils` and makes `positions` (#V×3, m) their last equilibrium, as if equilibrate()
+  /// had just converged there (checkpoints: the next solve is warm-started exactly as it was).
+  void restore_equilibrium(std::span<const StencilParams> stencils, const RowMatX3d& positions);
 
   /// Equilibrium at alpha(), warm-started. Throws SolveError (the solver keeps its last valid
   /// equilibrium).
@@ -85,6 +91,7 @@ class StencilledShell {
   std::unique_ptr<EquilibriumSolver> m_solver;
   std::unique_ptr<FillRatioEvaluator> m_fill;
   Eigen::VectorXd m_alpha;
+  std::vector<StencilParams> m_stencils;
   int m_num_stencils = 0;
   bool m_derivatives = false;
   StageTimes m_times;

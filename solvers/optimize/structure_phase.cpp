@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -39,13 +40,6 @@ bool same_params(std::span<const StencilParams> a, const std::vector<StencilPara
 }
 
 }  // namespace
-
-std::vector<StencilParams> layout_params(const StencilLayout& layout) {
-  std::vector<StencilParams> p;
-  p.reserve(layout.size());
-  for (const auto& s : layout) p.push_back({s.position, s.scale, s.angle, s.type});
-  return p;
-}
 
 StructuralTerm::StructuralTerm(StencilledShell& shell, cutwork::StructuralObjective objective, double w_S,
                                double beta, double w_ref, double c_ref, double target_covered_area)
@@ -197,107 +191,156 @@ double StructuralTerm::evaluate(std::span<const StencilParams> params, Eigen::Ve
   return m_w_S * t->value;
 }
 
-StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
-                                         const StencilLayout& start, double w_ref,
-                                         const StructurePhaseOptions& options) {
-  Stopwatch clock;
-  using Objective = cutwork::StructuralObjective;
-  if (settings.objective == Objective::None) throw Error("run_structure_phase: the structural objective is 'none'");
-  if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
-  StructurePhaseResult result;
-  result.objective = settings.objective == Objective::EnergyDensity ? "energy_density"
-                     : settings.objective == Objective::Adaptive    ? "adaptive"
-                                                                    : "compliance";
-  result.w_ref = w_ref;
-  result.layout = start;
-  StencilLayout& layout = result.layout;
-  if (layout.empty()) throw InputError("the structural phase needs stencils, and the pattern phase placed none");
+namespace {
 
-  // The pattern design: its equilibrium gives the references of compliance and adaptivity.
-  std::vector<StencilParams> params = layout_params(layout);
-  shell.set_stencils(params);
+using Objective = cutwork::StructuralObjective;
+
+AdaptiveThreshold adaptive_mode(const StructureSettings& settings) {
+  return settings.adaptive_mode == "median" ? AdaptiveThreshold::Median : AdaptiveThreshold::TopPercent;
+}
+
+/// The pattern design's equilibrium gives the references of compliance and adaptivity: c_ref,
+/// the covered area the compliance constraint holds, and the first β (in result.beta).
+void pattern_design_references(StencilledShell& shell, const StructureSettings& settings, double w_ref,
+                               StructurePhaseResult& result) {
+  shell.set_stencils(layout_params(result.layout));
   shell.equilibrate();
   const EquilibriumSummary pattern = shell.summary();
   result.c_ref = pattern.compliance;
   result.covered_area_target = shell.covered_area(nullptr);
-  const AdaptiveThreshold mode =
-      settings.adaptive_mode == "median" ? AdaptiveThreshold::Median : AdaptiveThreshold::TopPercent;
-  double beta = settings.beta * w_ref;
-  if (settings.objective == Objective::Adaptive) beta = adaptive_threshold(pattern.energy_density, mode, settings.adaptive_y);
+  result.beta = settings.beta * w_ref;
+  if (settings.objective == Objective::Adaptive)
+    result.beta = adaptive_threshold(pattern.energy_density, adaptive_mode(settings), settings.adaptive_y);
   if (settings.objective == Objective::Compliance && !(result.c_ref > 0))
     throw SolveError("the pattern design's loads do no work (compliance 0): nothing to minimise");
+}
 
-  StructuralTerm term(shell, settings.objective, settings.w_S, beta, w_ref, result.c_ref, result.covered_area_target);
-  // The pattern term per stencil: S is intensive (a mean over triangles), so P is made one too
-  // and J does not depend on how many stencils or triangles the design has. The admissibility
-  // terms (collision, boundary, tether) keep their pattern-phase strength: they are constraints,
-  // not taste, and must not weaken as the design grows.
-  struct AdmissibilityScale {
-    PatternEnergy& energy;
-    ~AdmissibilityScale() { energy.set_admissibility(1.0); }
-  } restore_scale{ctx.energy()};
-  auto per_stencil = [&](const StencilLayout& l) {
-    const double n = double(std::max<size_t>(1, l.size()));
-    ctx.energy().set_admissibility(n);
-    return ctx.settings().w_P / n;
-  };
-  auto joint_value = [&](const StencilLayout& l, double& S, double& P) {
-    const double w = per_stencil(l);
-    ctx.energy().rematch(l);
-    P = w / ctx.settings().w_P * ctx.energy().evaluate(l);
-    S = term.structure(layout_params(l));
-    return settings.w_S * S + ctx.settings().w_P * P;
-  };
-  result.J_start = joint_value(layout, result.S_start, result.P_start);
-  if (!std::isfinite(result.S_start))
-    throw SolveError("the pattern design has no stable equilibrium under the scene's loads");
+/// The pattern term per stencil: S is intensive (a mean over triangles), so P is made one too
+/// and J does not depend on how many stencils or triangles the design has. The admissibility
+/// terms (collision, boundary, tether) keep their pattern-phase strength: they are constraints,
+/// not taste, and must not weaken as the design grows. Restores the energy's scale when done.
+class PerStencilPattern {
+ public:
+  explicit PerStencilPattern(PatternContext& ctx) : m_ctx(ctx) {}
+  ~PerStencilPattern() { m_ctx.energy().set_admissibility(1.0); }
+  PerStencilPattern(const PerStencilPattern&) = delete;
+  PerStencilPattern& operator=(const PerStencilPattern&) = delete;
 
-  PatternPhaseOptions po;
+  /// w_P / #S for `layout` (and the energy's admissibility scaled to match).
+  double weight(const StencilLayout& layout) const {
+    const double n = double(std::max<size_t>(1, layout.size()));
+    m_ctx.energy().set_admissibility(n);
+    return m_ctx.settings().w_P / n;
+  }
+  /// J = w_S S + w_P P at `layout` (fresh matching), with S and P (per stencil).
+  double joint_value(StructuralTerm& term, double w_S, const StencilLayout& layout, double& S, double& P) const {
+    const double w = weight(layout);
+    m_ctx.energy().rematch(layout);
+    P = w / m_ctx.settings().w_P * m_ctx.energy().evaluate(layout);
+    S = term.structure(layout_params(layout));
+    return w_S * S + m_ctx.settings().w_P * P;
+  }
+
+ private:
+  PatternContext& m_ctx;
+};
+
+/// The optimisations of the phase (adaptive β updates, hole filling), from the start or from a
+/// checkpoint, with the checkpoint hook at every optimiser boundary.
+void optimize_structure(PatternContext& ctx, const StencilledShell& shell, StructuralTerm& term,
+                        const PerStencilPattern& pattern, const StructureSettings& settings,
+                        const StructurePhaseOptions& options, StructurePhaseResult& result) {
+  const PhaseCheckpoints<StructurePhaseResult>& cp = options.checkpoints;
+  StencilLayout& layout = result.layout;
+  PatternRng rng(options.seed);
+  PhaseCursor cursor;
+  const JointOptimizerState* from = nullptr;
+  if (cp.resume) {
+    rng.set_state(cp.resume->rng);
+    cursor = cp.resume->cursor;
+    from = &cp.resume->optimizer;
+  }
+  JointOptimizerOptions po;
   po.joint = &term;
   po.max_rotation = settings.max_rotation * M_PI / 180.0;
   po.max_iterations = options.max_iterations >= 0 ? options.max_iterations : settings.max_iterations;
   po.progress = options.progress;
-  PatternRng rng(options.seed);
-  PatternPhaseResult acc;
-  const int optimisations = settings.objective == Objective::Adaptive ? settings.max_rounds : 1;
-  for (int k = 0; k < optimisations; ++k) {
-    result.beta_history.push_back(term.beta());
-    po.w_P = per_stencil(layout);
-    optimize_pattern(ctx, layout, po, acc);
+  if (cp.save)
+    po.checkpoint = [&](const JointOptimizerState& st, const LbfgsbState* lbfgsb) {
+      result.beta = term.beta();
+      result.restorations = term.restorations();
+      result.max_restoring_change = term.max_restoring_change();
+      cp.save(result, PhaseSnapshot{cursor, rng, st, lbfgsb});
+    };
+  auto optimize = [&](int fill) {
+    cursor.fill = fill;
+    po.w_P = pattern.weight(from ? from->layout : layout);
+    optimize_pattern(ctx, layout, po, result, std::exchange(from, nullptr));
     ++result.optimisations;
+  };
+  const int optimisations = settings.objective == Objective::Adaptive ? settings.max_rounds : 1;
+  for (int k = cursor.outer; k < optimisations; ++k) {
+    cursor.outer = k;
+    const int resume_fill = from ? cursor.fill : 0;
+    if (!from) result.beta_history.push_back(term.beta());
+    if (resume_fill == 0) optimize(0);
     // §6.3: fill the holes the optimisation opened, and continue when stencils were added.
-    for (int f = 0; settings.fill_holes && f < 3; ++f) {
-      const int added = ctx.fill_holes(layout, rng);
-      result.inserted_by_hole_filling += added;
-      if (added == 0) break;
-      if (settings.objective == Objective::Compliance) {
-        // New stencils add area; the constraint holds the design's total, so restore it.
-        std::vector<StencilParams> p = layout_params(layout);
-        term.restore(p);
-        for (size_t i = 0; i < layout.size(); ++i) layout[i].scale = p[i].scale;
-      }
-      po.w_P = per_stencil(layout);
-      optimize_pattern(ctx, layout, po, acc);
-      ++result.optimisations;
-    }
+    if (settings.fill_holes)
+      fill_holes_and_reoptimize(ctx, layout, rng, 3, result.inserted_by_hole_filling, [&](int j) {
+        if (settings.objective == Objective::Compliance && !from) {
+          // New stencils add area; the constraint holds the design's total, so restore it.
+          std::vector<StencilParams> p = layout_params(layout);
+          term.restore(p);
+          for (size_t i = 0; i < layout.size(); ++i) layout[i].scale = p[i].scale;
+        }
+        optimize(j);
+      }, resume_fill);
     if (settings.objective != Objective::Adaptive) break;
     // Adaptive: move β to the statistic of the converged design; stop when it settles.
-    params = layout_params(layout);
-    if (!std::isfinite(term.structure(params))) break;
-    const double next = adaptive_threshold(shell.summary().energy_density, mode, settings.adaptive_y);
-    if (std::abs(next - term.beta()) <= 1e-3 * w_ref) break;
+    if (!std::isfinite(term.structure(layout_params(layout)))) break;
+    const double next = adaptive_threshold(shell.summary().energy_density, adaptive_mode(settings), settings.adaptive_y);
+    if (std::abs(next - term.beta()) <= 1e-3 * result.w_ref) break;
     term.set_beta(next);
   }
+}
+
+}  // namespace
+
+StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
+                                         const StencilLayout& start, double w_ref,
+                                         const StructurePhaseOptions& options) {
+  Stopwatch clock;
+  if (settings.objective == Objective::None) throw Error("run_structure_phase: the structural objective is 'none'");
+  if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
+  const PhaseCheckpoints<StructurePhaseResult>& cp = options.checkpoints;
+  StructurePhaseResult result;
+  if (cp.resume) {
+    result = *cp.resume_result;
+  } else {
+    result.objective = settings.objective == Objective::EnergyDensity ? "energy_density"
+                       : settings.objective == Objective::Adaptive    ? "adaptive"
+                                                                      : "compliance";
+    result.w_ref = w_ref;
+    result.layout = start;
+    if (result.layout.empty())
+      throw InputError("the structural phase needs stencils, and the pattern phase placed none");
+    pattern_design_references(shell, settings, w_ref, result);
+  }
+  StructuralTerm term(shell, settings.objective, settings.w_S, result.beta, w_ref, result.c_ref,
+                      result.covered_area_target);
+  const PerStencilPattern pattern(ctx);
+  if (cp.resume) {
+    term.set_counters(result.restorations, result.max_restoring_change);
+  } else {
+    result.J_start = pattern.joint_value(term, settings.w_S, result.layout, result.S_start, result.P_start);
+    if (!std::isfinite(result.S_start))
+      throw SolveError("the pattern design has no stable equilibrium under the scene's loads");
+  }
+  optimize_structure(ctx, shell, term, pattern, settings, options, result);
+
   result.beta = settings.objective == Objective::Compliance ? std::nan("") : term.beta();
-  result.J_end = joint_value(layout, result.S_end, result.P_end);
+  result.J_end = pattern.joint_value(term, settings.w_S, result.layout, result.S_end, result.P_end);
   result.covered_area_final = shell.covered_area(nullptr);
-  result.rounds = acc.rounds;
-  result.iterations = acc.iterations;
-  result.evaluations = acc.evaluations;
-  result.type_changes = acc.type_changes;
-  result.removed = acc.removed;
-  result.round_histories = std::move(acc.round_histories);
-  result.stop_reason = acc.stop_reason;
   result.restorations = term.restorations();
   result.max_restoring_change = term.max_restoring_change();
   result.seconds = clock.seconds();

@@ -8,7 +8,7 @@
 /// fill kernel's exact dα/dp pulled back, and dP/dp from the pattern objective. A point where no
 /// stable equilibrium exists evaluates to +∞ (the line search backs off). The rounds of the
 /// pattern phase carry over: DET neighbourhoods are re-matched and stencil types voted between
-/// L-BFGS-B runs (solvers/optimize/pattern_phase.h, optimize_pattern with a JointTerm).
+/// L-BFGS-B runs (solvers/optimize/joint_optimizer.h, optimize_pattern with a JointTerm).
 ///
 /// Objectives (scene `structure.objective`, solvers/objective/structural_objective.h):
 ///  - energy_density (17): β = structure.beta × W_ref, W_ref = W_max of the uncut shell;
@@ -32,7 +32,8 @@
 
 #include "host/scene/scene.h"
 #include "solvers/objective/structural_objective.h"
-#include "solvers/optimize/pattern_phase.h"
+#include "solvers/optimize/joint_optimizer.h"
+#include "solvers/optimize/phase_state.h"
 #include "solvers/optimize/stencilled_shell.h"
 
 namespace cutwork::solvers {
@@ -61,6 +62,11 @@ class StructuralTerm final : public JointTerm {
   /// Restorations so far and the largest |k − 1| among them.
   int restorations() const { return m_restorations; }
   double max_restoring_change() const { return m_max_k_change; }
+  /// Sets those counters (a phase resumed from a checkpoint).
+  void set_counters(int restorations, double max_restoring_change) {
+    m_restorations = restorations;
+    m_max_k_change = max_restoring_change;
+  }
 
  private:
   bool constrained() const { return m_objective == cutwork::StructuralObjective::Compliance; }
@@ -84,13 +90,10 @@ class StructuralTerm final : public JointTerm {
   double m_max_k_change = 0;
 };
 
-struct StructurePhaseOptions {
-  int max_iterations = -1;  ///< L-BFGS-B iterations per optimisation; −1: structure.max_iterations
-  std::function<bool(const PatternProgress&)> progress;
-  unsigned seed = 1;        ///< hole filling's random order
-};
-
-struct StructurePhaseResult {
+/// The structural phase's result; the optimiser's figures (rounds, iterations, evaluations, type
+/// changes, removed, stop reason, round histories) come from JointOptimizerStats, accumulated
+/// over all its optimisations.
+struct StructurePhaseResult : JointOptimizerStats {
   StencilLayout layout;
   std::string objective;           ///< energy_density, adaptive or compliance
   double beta = std::nan("");      ///< final threshold (J/m²; energy density and adaptive)
@@ -98,15 +101,22 @@ struct StructurePhaseResult {
   double w_ref = 0, c_ref = 0;     ///< references of the dimensionless S (J/m², J)
   double J_start = 0, J_end = 0, S_start = 0, S_end = 0, P_start = 0, P_end = 0;
   int optimisations = 0;           ///< L-BFGS-B sequences (adaptive β updates, hole filling)
-  int rounds = 0, iterations = 0, evaluations = 0, type_changes = 0, removed = 0;
   int inserted_by_hole_filling = 0;
   double covered_area_target = 0, covered_area_final = 0;  ///< m² (compliance)
   int restorations = 0;
   double max_restoring_change = 0;
-  std::vector<std::vector<double>> round_histories;  ///< J per accepted iterate, per round
-  std::string stop_reason;
   double seconds = 0;
   std::vector<std::string> notes;
+};
+
+struct StructurePhaseOptions {
+  int max_iterations = -1;  ///< L-BFGS-B iterations per optimisation; −1: structure.max_iterations
+  std::function<bool(const PatternProgress&)> progress;
+  unsigned seed = 1;        ///< hole filling's random order
+  /// Checkpoints inside the phase (at every optimiser boundary; the partial result's `beta` is
+  /// the live β) and resuming from one. The shell's state (its stencils and last equilibrium)
+  /// is the caller's to save and, before resuming, to restore (StencilledShell::restore_equilibrium).
+  PhaseCheckpoints<StructurePhaseResult> checkpoints;
 };
 
 /// Runs the structural phase from `start` (the pattern design on ctx's surface). `shell` must be
@@ -115,8 +125,5 @@ struct StructurePhaseResult {
 StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
                                          const StencilLayout& start, double w_ref,
                                          const StructurePhaseOptions& options = {});
-
-/// The parameters of a layout (positions on the surface).
-std::vector<StencilParams> layout_params(const StencilLayout& layout);
 
 }  // namespace cutwork::solvers

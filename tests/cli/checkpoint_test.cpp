@@ -1,8 +1,8 @@
 // `cutwork design` checkpoints and --resume (host/cli/checkpoint.h): a run killed with SIGKILL
-// after its checkpoint, or stopped by SIGTERM, and resumed, ends with the same design as an
-// uninterrupted run, bit for bit. The kill comes from the test hook
-// CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT, so it lands at a known moment (during the structural
-// phase, right after the checkpoint of the pattern phase).
+// after a checkpoint — at the end of the pattern phase, or part way through the pattern or the
+// structural phase (inside an L-BFGS-B run) — or stopped by SIGTERM, and resumed, ends with the
+// same design as an uninterrupted run, bit for bit. The kill comes from the test hook
+// CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=SIGNAL@STAGE:N, so it lands at a known moment.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -90,6 +90,78 @@ TEST(CliCheckpoint, SigtermStopsCleanlyKeepingTheCheckpoint) {
 
   ASSERT_EQ(design(dir / "resumed", "--resume").exit_code, 0);
   expect_same_design(dir / "whole", dir / "resumed");
+  fs::remove_all(dir);
+}
+
+/// Killed right after the n-th checkpoint inside `stage` (one at every optimiser boundary:
+/// --checkpoint-every 1e-9), then resumed: the uninterrupted design, bit for bit.
+void kill_inside_and_resume(const std::string& name, const std::string& spec) {
+  const fs::path dir = test::temp_dir(name);
+  ASSERT_EQ(design(dir / "whole").exit_code, 0);
+  const auto killed = design(dir / "resumed", "--checkpoint-every 1e-9", "CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=" + spec);
+  EXPECT_NE(killed.exit_code, 0);
+  ASSERT_TRUE(fs::exists(dir / "resumed" / ".cutwork-checkpoint.json"));
+  const auto checkpoint = nlohmann::json::parse(slurp(dir / "resumed" / ".cutwork-checkpoint.json"));
+  EXPECT_EQ(checkpoint["stage"], spec.substr(spec.find('@') + 1, spec.find(':') - spec.find('@') - 1));
+  // Inside an L-BFGS-B run: its state (corrections included) is in the checkpoint.
+  EXPECT_FALSE(checkpoint["phase"]["optimizer"]["lbfgsb"].is_null()) << spec;
+  EXPECT_GT(checkpoint["phase"]["optimizer"]["lbfgsb"]["s"].size(), 0u) << spec;
+  const auto resumed = design(dir / "resumed", "--resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_same_design(dir / "whole", dir / "resumed");
+  fs::remove_all(dir);
+}
+
+TEST(CliCheckpoint, KilledInsideTheStructuralPhaseAndResumedEqualsTheUninterruptedDesign) {
+  kill_inside_and_resume("checkpoint_structure", "KILL@structure:3");
+}
+
+TEST(CliCheckpoint, KilledInsideThePatternPhaseAndResumedEqualsTheUninterruptedDesign) {
+  kill_inside_and_resume("checkpoint_pattern", "KILL@pattern:3");
+}
+
+TEST(CliCheckpoint, CheckpointsDoNotChangeTheDesign) {
+  const fs::path dir = test::temp_dir("checkpoint_every");
+  ASSERT_EQ(design(dir / "whole", "--checkpoint-every 0").exit_code, 0);
+  const auto often = design(dir / "often", "--checkpoint-every 1e-9");
+  ASSERT_EQ(often.exit_code, 0) << often.err;
+  expect_same_design(dir / "whole", dir / "often");
+  fs::remove_all(dir);
+}
+
+TEST(CliCheckpoint, SigtermInsideAPhaseWritesACheckpointAndStops) {
+  const fs::path dir = test::temp_dir("checkpoint_term_inside");
+  ASSERT_EQ(design(dir / "whole").exit_code, 0);
+  const auto stopped =
+      design(dir / "resumed", "--checkpoint-every 1e-9", "CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=TERM@structure:2");
+  EXPECT_EQ(stopped.exit_code, 128 + 15) << stopped.err;
+  EXPECT_EQ(count_lines(stopped.err), 1) << stopped.err;
+  EXPECT_NE(stopped.err.find("inside the structural phase"), std::string::npos) << stopped.err;
+  ASSERT_EQ(design(dir / "resumed", "--resume").exit_code, 0);
+  expect_same_design(dir / "whole", dir / "resumed");
+  fs::remove_all(dir);
+}
+
+TEST(CliCheckpoint, ADamagedCheckpointIsRefusedWithOneLine) {
+  const fs::path dir = test::temp_dir("checkpoint_damaged");
+  design(dir / "out", "--checkpoint-every 1e-9", "CUTWORK_TEST_SIGNAL_AFTER_CHECKPOINT=KILL@structure:2");
+  const fs::path file = dir / "out" / ".cutwork-checkpoint.json";
+  ASSERT_TRUE(fs::exists(file));
+  const std::string good = slurp(file);
+  // One digit changed inside a number (valid JSON, different state), then the file cut short.
+  std::string flipped = good;
+  const size_t at = flipped.find("\"scale\":");
+  ASSERT_NE(at, std::string::npos);
+  size_t digit = flipped.find_first_of("123456789", at + 8);
+  flipped[digit] = flipped[digit] == '9' ? '8' : char(flipped[digit] + 1);
+  for (const std::string& bad : {flipped, good.substr(0, good.size() / 2)}) {
+    std::ofstream(file, std::ios::binary) << bad;
+    const auto r = design(dir / "out", "--resume");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("damaged checkpoint"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out" / "report.json"));
+  }
   fs::remove_all(dir);
 }
 

@@ -20,6 +20,10 @@
 namespace cutwork {
 namespace {
 using nlohmann::json;
+using solvers::optimize_pattern;
+using solvers::PatternPhaseOptions;
+using solvers::PatternPhaseResult;
+using solvers::run_pattern_phase;
 
 /// A built-in scene with its pattern block replaced (other keys merged in).
 Scene scene_with(const std::string& name, const json& pattern, const json& extra = json::object()) {
