@@ -20,6 +20,7 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
 #include "solvers/report/simulate_report.h"
@@ -77,7 +78,7 @@ void run_simulate(const SimulateOptions& opts) {
   std::vector<std::string>& notes = loaded.notes;  // told once the run has succeeded
 
   sw.restart();
-  const solvers::ShellModel model(meshes.sim, scene.material, load_case, scene.mechanics);
+  const solvers::ShellModel model(meshes.sim, scene.material, load_case, solvers::scene_mechanics(scene));
   timings.add("model", sw.seconds());
 
   solvers::NewtonSettings settings;

@@ -150,6 +150,8 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
     JsonObjectReader m = root.object("mechanics");
     const std::string bending = m.string("bending", "shape_operator", {"shape_operator", "hinge"});
     scene.mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
+    const std::string stiffness = m.string("stiffness", "linear", {"linear", "homogenised"});
+    scene.mechanics.stiffness = stiffness == "homogenised" ? FillStiffness::Homogenised : FillStiffness::Linear;
     m.finish();
   }
 
@@ -358,7 +360,8 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                    {"poisson_ratio", s.material.poisson_ratio},
                    {"thickness", s.material.thickness},
                    {"density", s.material.density}};
-  j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"}};
+  j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
+                    {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"}};
   j["supports"] = json::array();
   for (const auto& sp : s.supports)
     j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},

@@ -1,3 +1,4 @@
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/optimize/design_pipeline.h"
 
 #include "host/core/error.h"
@@ -21,7 +22,8 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
                         PatternContext& ctx, const DesignOptions& options) {
   DesignResult r;
   Stopwatch sw;
-  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material, scene.mechanics, load_case, ctx.shapes(),
+  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material,
+                        resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material), load_case, ctx.shapes(),
                         ctx.surface().field(), options.fill);
   r.timings.add("model", sw.seconds());
 
