@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "host/scene/scene.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 
 namespace cutwork {
@@ -27,7 +28,7 @@ void BM_Equilibrium_Sheet(benchmark::State& state) {
   scene.mesh.sim_edge_length = 0;
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
-  const solvers::ShellModel model(meshes.sim, scene.material, lc, scene.mechanics);
+  const solvers::ShellModel model(meshes.sim, scene.material, lc, solvers::scene_mechanics(scene));
   solvers::EquilibriumSolver solver(model);
   const Eigen::VectorXd alpha = Eigen::VectorXd::Ones(model.num_faces());
   double iterations = 0, factorizations = 0, krylov_steps = 0, krylov_iterations = 0;

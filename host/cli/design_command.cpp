@@ -21,6 +21,7 @@
 #include "host/io/json_io.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/optimize/design_pipeline.h"
 #include "solvers/report/design_report.h"
@@ -212,7 +213,7 @@ void run_design_command(const DesignCommandOptions& opts) {
   check_stencil_work(scene, meshes);  // refuse an unbounded pattern before building anything for it
   {
     // The factor's size from CHOLMOD's symbolic analysis, before the design factorises anything.
-    const solvers::ShellModel model(meshes.sim, scene.material, load_case, scene.mechanics);
+    const solvers::ShellModel model(meshes.sim, scene.material, load_case, solvers::scene_mechanics(scene));
     check_factor_work(scene, meshes, solvers::EquilibriumSolver(model).linear_solver().factor_nonzeros());
   }
   sw.restart();

@@ -21,8 +21,28 @@ enum class BendingModel {
   Hinge,          ///< the paper's discrete-shell hinges (8), kept to reproduce the paper's numbers
 };
 
+/// How a partly cut face is weakened (scene key "mechanics.stiffness").
+enum class FillStiffness {
+  Linear,       ///< the paper's (9)–(10): stiffness ∝ the fill ratio α
+  Homogenised,  ///< stiffness of a periodically perforated sheet with the same α (solvers/homogenise)
+};
+
+/// Effective stiffness of perforated material against its fill ratio, as samples of the ratios
+/// r(α) = g(α)/α, where g(α) is the stiffness of a sheet perforated down to fill ratio α relative
+/// to the solid sheet (g(α) = α for the linear rule, so r ≡ 1). Filled in by
+/// solvers/homogenise (calibrate_fill_stiffness) before a shell model is built; plain numbers here.
+struct FillStiffnessCurve {
+  std::vector<double> alpha;     ///< sample fill ratios, strictly increasing, in (0, 1], last = 1
+  std::vector<double> membrane;  ///< r_m at each sample (membrane stiffness / (α · solid)); last = 1
+  std::vector<double> bending;   ///< r_b at each sample (bending stiffness / (α · solid)); last = 1
+  bool empty() const { return alpha.empty(); }
+};
+
 struct MechanicsSettings {
   BendingModel bending = BendingModel::ShapeOperator;
+  FillStiffness stiffness = FillStiffness::Linear;
+  /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
+  FillStiffnessCurve stiffness_curve;
 };
 
 enum class SupportKind {

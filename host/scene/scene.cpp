@@ -189,6 +189,8 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   JsonObjectReader m = root.object("mechanics");
   const std::string bending = m.string("bending", "shape_operator", {"shape_operator", "hinge"});
   mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
+  const std::string stiffness = m.string("stiffness", "linear", {"linear", "homogenised"});
+  mechanics.stiffness = stiffness == "homogenised" ? FillStiffness::Homogenised : FillStiffness::Linear;
   m.finish();
   return mechanics;
 }
@@ -432,7 +434,8 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                    {"poisson_ratio", s.material.poisson_ratio},
                    {"thickness", s.material.thickness},
                    {"density", s.material.density}};
-  j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"}};
+  j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
+                    {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"}};
   j["supports"] = json::array();
   for (const auto& sp : s.supports)
     j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},

@@ -1,3 +1,4 @@
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/conforming/conforming_verification.h"
 
 #include <cmath>
@@ -129,8 +130,10 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
 
   // 1. The coarse fill-ratio run.
   v.alpha = design_fill_ratios(ctx, meshes, stencils, fill);
+  // The conforming runs are at α = 1, where every fill rule is the solid.
+  const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
   {
-    const ShellModel coarse(meshes.sim, scene.material, load_case, scene.mechanics);
+    const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr);
     v.coarse.edge_length = meshes.sim.mean_edge_length();
   }
@@ -149,7 +152,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       const std::vector<bool> outer =
           boundary_vertices_on_boundary_of(mesh, meshes.base, 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm());
       const LoadCase lc = resolve_load_case(scene, mesh, &outer);
-      const ShellModel model(mesh, scene.material, lc, scene.mechanics);
+      const ShellModel model(mesh, scene.material, lc, mechanics);
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }
     q.edge_length = L;

@@ -7,6 +7,12 @@
 /// area at the local strain and curvature — independent of α at a given state, as a stress-like
 /// failure measure must be — and Σ_i Â_i W_i is the total elastic energy.
 ///
+/// Homogenised fill stiffness (mechanics.stiffness, fill_stiffness_map.h): the elements are scaled by
+/// g(α_i) = α_i r(α_i) instead of α_i, and W_i = (g_m U_i^memb + g_b U_i^bend)/Â_i
+/// = (r_m U_i^memb + r_b U_i^bend)/A_i stays the energy per area of the material left — the mean
+/// energy density of the perforated sheet, which now depends on α through r (its α-derivative is
+/// in energy_density_vjp).
+///
 /// Hinge bending (the paper's model): (16) as printed,
 ///     W_i = Ŵ_i^memb / Â_i  +  Σ_j  Â_i / (3 Â_ij²) · Ŵ_ij^bend,     Â_ij = (Â_i + Â_j)/3,
 /// the sum running over the hinges j of triangle i: the hinge's energy per (remaining) hinge area,

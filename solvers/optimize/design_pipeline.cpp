@@ -74,7 +74,8 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
                         PatternContext& ctx, const DesignOptions& options) {
   DesignResult r;
   Stopwatch sw;
-  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material, scene.mechanics, load_case, ctx.shapes(),
+  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material,
+                        scene.mechanics, load_case, ctx.shapes(),
                         ctx.surface().field(), options.fill);
   r.timings.add("model", sw.seconds());
 

@@ -1,3 +1,4 @@
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/optimize/stencilled_shell.h"
 
 #include "host/core/error.h"
@@ -9,7 +10,8 @@ StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_
                                  const MechanicsSettings& mechanics, const LoadCase& load_case, const StencilLibrary& shapes,
                                  const TangentField& field, FillRatioOptions fill_options, NewtonSettings newton)
     : m_sim(&sim), m_sim_bvh(sim) {
-  m_model = std::make_unique<ShellModel>(sim, material, load_case, mechanics);
+  // A homogenised fill stiffness is calibrated for these shapes (memoised: once per process).
+  m_model = std::make_unique<ShellModel>(sim, material, load_case, resolve_fill_stiffness(mechanics, shapes, material));
   m_solver = std::make_unique<EquilibriumSolver>(*m_model, std::move(newton));
   m_fill = std::make_unique<FillRatioEvaluator>(surface_bvh, m_sim_bvh, shapes, &field, fill_options);
   m_alpha = Eigen::VectorXd::Ones(sim.num_faces());

@@ -1,3 +1,4 @@
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/report/design_report.h"
 
 #include <cmath>
@@ -168,7 +169,7 @@ std::vector<std::string> design_output_names(const DesignOutputs& o) {
 
 RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
                                    const Eigen::VectorXd& alpha) {
-  const ShellModel model(meshes.sim, scene.material, load_case, scene.mechanics);
+  const ShellModel model(meshes.sim, scene.material, load_case, scene_mechanics(scene));
   EquilibriumSolver solver(model);
   solver.solve(alpha);
   return solver.displacements();

@@ -1,3 +1,4 @@
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/report/run_report.h"
 
 #include <cmath>
@@ -22,6 +23,13 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                {"sim_triangles", meshes.sim.num_faces()},
                {"sim_is_base", meshes.sim_is_base},
                {"map_max_distance", meshes.map.max_distance}};
+  const MechanicsSettings mechanics = scene_mechanics(scene);
+  r["mechanics"] = {{"bending", mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
+                    {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"}};
+  if (!mechanics.stiffness_curve.empty())
+    r["mechanics"]["stiffness_curve"] = {{"alpha", mechanics.stiffness_curve.alpha},
+                                         {"membrane_ratio", mechanics.stiffness_curve.membrane},
+                                         {"bending_ratio", mechanics.stiffness_curve.bending}};
   r["timings"] = timings_json(timings);
   return r;
 }

@@ -44,6 +44,7 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
                       {"clamped_vertices", clamped},
                       {"membranes", model.num_faces()},
                       {"bending", scene.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
+                      {"stiffness", model.fill_stiffness().linear() ? "linear" : "homogenised"},
                       {"bends", model.bends().size()},
                       {"hinges", model.hinges().size()},
                       {"clamp_hinges", model.clamp_hinges().size()},

@@ -37,17 +37,19 @@ Vec12 clamp_positions(const ClampHinge& clamp, const RowMatX3d& x) {
   return v;
 }
 
-double hinge_fill_factor(const ShellHinge& hinge, const Eigen::VectorXd& alpha) {
-  return std::sqrt(alpha[hinge.face[0]] * alpha[hinge.face[1]]);
+double hinge_fill_factor(const ShellModel& model, const ShellHinge& hinge, const Eigen::VectorXd& alpha) {
+  const FillStiffnessMap& g = model.fill_stiffness();
+  return std::sqrt(g.bending(alpha[hinge.face[0]]) * g.bending(alpha[hinge.face[1]]));
 }
 
 double element_fill_factor(const ShellModel& model, const Eigen::VectorXd& alpha, int e) {
   const ElementRef ref = model.element(e);
+  const FillStiffnessMap& g = model.fill_stiffness();
   switch (ref.kind) {
-    case ElementKind::Membrane: return alpha[ref.index];
-    case ElementKind::Bend: return alpha[model.bends()[ref.index].face];
-    case ElementKind::Hinge: return hinge_fill_factor(model.hinges()[ref.index], alpha);
-    case ElementKind::Clamp: return alpha[model.clamp_hinges()[ref.index].face];
+    case ElementKind::Membrane: return g.membrane(alpha[ref.index]);
+    case ElementKind::Bend: return g.bending(alpha[model.bends()[ref.index].face]);
+    case ElementKind::Hinge: return hinge_fill_factor(model, model.hinges()[ref.index], alpha);
+    case ElementKind::Clamp: return g.bending(alpha[model.clamp_hinges()[ref.index].face]);
   }
   return 0;
 }

@@ -1,7 +1,8 @@
 #pragma once
 /// Total elastic energy (11) of a ShellModel, Ŵ(x, α) = Σ_e s_e(α) U_e(x), with U_e the energy of
-/// element e at unit fill ratio and s_e its fill factor (α_f for membranes, shape-operator bends and
-/// clamp hinges; √(α_i α_j) for hinges (10)), with its gradient and Hessian over the free DOFs,
+/// element e at unit fill ratio and s_e its fill factor (g_m(α_f) for membranes, g_b(α_f) for
+/// shape-operator bends and clamp hinges, √(g_b(α_i) g_b(α_j)) for hinges (10); g(α) = α under the
+/// paper's linear rule, see fill_stiffness_map.h), with its gradient and Hessian over the free DOFs,
 /// assembled in parallel (TBB) into the fixed pattern of ShellModel::assembly(). Results do not
 /// depend on the number of threads.
 ///
@@ -74,8 +75,8 @@ Vec9 membrane_positions(const ShellModel& model, const RowMatX3d& x, int face);
 Vec18 bend_positions(const ShellBend& bend, const RowMatX3d& x);
 Vec12 hinge_positions(const ShellHinge& hinge, const RowMatX3d& x);
 Vec12 clamp_positions(const ClampHinge& clamp, const RowMatX3d& x);
-/// √(α_i α_j) of a hinge.
-double hinge_fill_factor(const ShellHinge& hinge, const Eigen::VectorXd& alpha);
+/// √(g_b(α_i) g_b(α_j)) of a hinge (√(α_i α_j) under the linear rule).
+double hinge_fill_factor(const ShellModel& model, const ShellHinge& hinge, const Eigen::VectorXd& alpha);
 
 // ---- implementation of the templates -------------------------------------------------------------
 
@@ -129,17 +130,32 @@ void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double sc
 template <typename Visit>
 void for_each_fill_dependence(const ShellModel& model, const Eigen::VectorXd& alpha, int e, Visit&& visit) {
   const ElementRef ref = model.element(e);
+  const FillStiffnessMap& g = model.fill_stiffness();
+  double d = 0;
   switch (ref.kind) {
-    case ElementKind::Membrane: visit(ref.index, 1.0); return;
-    case ElementKind::Bend: visit(model.bends()[ref.index].face, 1.0); return;
-    case ElementKind::Hinge: {
-      const ShellHinge& h = model.hinges()[ref.index];
-      const double s = hinge_fill_factor(h, alpha);
-      visit(h.face[0], s / (2.0 * alpha[h.face[0]]));
-      visit(h.face[1], s / (2.0 * alpha[h.face[1]]));
+    case ElementKind::Membrane: g.membrane(alpha[ref.index], &d); visit(ref.index, d); return;
+    case ElementKind::Bend: {
+      const int f = model.bends()[ref.index].face;
+      g.bending(alpha[f], &d);
+      visit(f, d);
       return;
     }
-    case ElementKind::Clamp: visit(model.clamp_hinges()[ref.index].face, 1.0); return;
+    case ElementKind::Hinge: {
+      // s = √(g_i g_j): ∂s/∂α_i = s g_i' / (2 g_i).
+      const ShellHinge& h = model.hinges()[ref.index];
+      const double s = hinge_fill_factor(model, h, alpha);
+      for (int side = 0; side < 2; ++side) {
+        const double gi = g.bending(alpha[h.face[side]], &d);
+        visit(h.face[side], s * d / (2.0 * gi));
+      }
+      return;
+    }
+    case ElementKind::Clamp: {
+      const int f = model.clamp_hinges()[ref.index].face;
+      g.bending(alpha[f], &d);
+      visit(f, d);
+      return;
+    }
   }
 }
 

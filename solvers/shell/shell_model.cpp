@@ -146,6 +146,7 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
       m_material(material),
       m_stiffness(shell_stiffness(material)),
       m_mechanics(mechanics),
+      m_fill_stiffness(mechanics),
       m_bending_constitutive(solvers::bending_constitutive(material.poisson_ratio)),
       m_load_case(load_case) {
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();

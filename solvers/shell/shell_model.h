@@ -4,11 +4,14 @@
 ///
 /// Elements (indexed in this order by the assembly: membranes, then the bending elements of the
 /// scene's bending model — MechanicsSettings::bending):
-///   - one CST membrane per face (membrane_energy.h), scaled by α_f (9);
+///   - one CST membrane per face (membrane_energy.h), scaled by g_m(α_f) (9);
 ///   - shape_operator (default): one bending element per face over the face and its edge neighbours
-///     (shape_operator_energy.h), Kirchhoff's energy with the material's ν, scaled by α_f;
-///   - hinge (the paper's model): one hinge per interior edge (hinge_energy.h), scaled by √(α_i α_j)
-///     (10), and one clamp hinge per (face, edge) whose two edge vertices are both clamped.
+///     (shape_operator_energy.h), Kirchhoff's energy with the material's ν, scaled by g_b(α_f);
+///   - hinge (the paper's model): one hinge per interior edge (hinge_energy.h), scaled by
+///     √(g_b(α_i) g_b(α_j)) (10), and one clamp hinge per (face, edge) whose two edge vertices are
+///     both clamped.
+/// g_m, g_b are the fill stiffness rules of fill_stiffness_map.h: g(α) = α (the paper's, default) or
+/// the homogenised stiffness of perforated material (mechanics.stiffness = Homogenised).
 ///
 /// Supports. A pinned vertex is fixed in space: its three DOFs are eliminated (the assembled system
 /// is the reduced one over the free vertices); a pinned edge is a simple support (moment-free: a
@@ -43,6 +46,7 @@
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/load_case.h"
 #include "solvers/linear/block_assembly.h"
+#include "solvers/shell/fill_stiffness_map.h"
 #include "solvers/shell/hinge_energy.h"
 #include "solvers/shell/membrane_energy.h"
 #include "solvers/shell/shape_operator_energy.h"
@@ -104,6 +108,8 @@ class ShellModel {
   const Material& material() const { return m_material; }
   const ShellStiffness& stiffness() const { return m_stiffness; }
   const MechanicsSettings& mechanics() const { return m_mechanics; }
+  /// How membrane and bending stiffness follow a face's fill ratio (mechanics.stiffness).
+  const FillStiffnessMap& fill_stiffness() const { return m_fill_stiffness; }
   /// Ĉ of shape_operator_energy.h for the material's ν.
   const Eigen::Matrix3d& bending_constitutive() const { return m_bending_constitutive; }
   const LoadCase& load_case() const { return m_load_case; }
@@ -167,6 +173,7 @@ class ShellModel {
   Material m_material;
   ShellStiffness m_stiffness;
   MechanicsSettings m_mechanics;
+  FillStiffnessMap m_fill_stiffness;
   Eigen::Matrix3d m_bending_constitutive;
   LoadCase m_load_case;
   std::vector<bool> m_fixed;

@@ -18,13 +18,24 @@
 namespace cutwork::solvers {
 namespace {
 
-const BendingModel kBendingModels[] = {BendingModel::ShapeOperator, BendingModel::Hinge};
-const char* bending_name(BendingModel b) { return b == BendingModel::Hinge ? "hinge" : "shape operator"; }
+/// Every bending model under both fill stiffness rules.
+struct ModelVariant {
+  BendingModel bending;
+  FillStiffness stiffness;
+  std::string name() const {
+    return std::string(bending == BendingModel::Hinge ? "hinge" : "shape operator") +
+           (stiffness == FillStiffness::Homogenised ? ", homogenised stiffness" : "");
+  }
+};
+const ModelVariant kVariants[] = {{BendingModel::ShapeOperator, FillStiffness::Linear},
+                                  {BendingModel::Hinge, FillStiffness::Linear},
+                                  {BendingModel::ShapeOperator, FillStiffness::Homogenised},
+                                  {BendingModel::Hinge, FillStiffness::Homogenised}};
 
 TEST(FillRatioPartials, MatchCentralDifferencesAtFixedPositions) {
- for (BendingModel bending : kBendingModels) {
-  SCOPED_TRACE(bending_name(bending));
-  test::CapFixture fx(31, bending);
+ for (const ModelVariant& variant : kVariants) {
+  SCOPED_TRACE(variant.name());
+  test::CapFixture fx(31, variant.bending, variant.stiffness);
   const ShellModel& model = *fx.model;
   const RowMatX3d x = fx.perturbed(32);
   const Eigen::VectorXd& a0 = fx.alpha;
@@ -88,9 +99,9 @@ std::vector<std::pair<std::string, StructuralObjective>> objectives() {
 TEST(AdjointSensitivity, MatchesCentralDifferencesOfTheEquilibrium) {
   // Threading fixed: everything runs in a one-thread arena.
   tbb::task_arena(1).execute([] {
- for (BendingModel bending : kBendingModels) {
-  SCOPED_TRACE(bending_name(bending));
-  test::CapFixture fx(39, bending);
+ for (const ModelVariant& variant : kVariants) {
+  SCOPED_TRACE(variant.name());
+  test::CapFixture fx(39, variant.bending, variant.stiffness);
   const ShellModel& model = *fx.model;
   NewtonSettings settings;
   settings.residual_tolerance = 1e-12;
@@ -98,7 +109,7 @@ TEST(AdjointSensitivity, MatchesCentralDifferencesOfTheEquilibrium) {
   const EquilibriumStats& stats = solver.solve(fx.alpha);
   ASSERT_TRUE(stats.stable);
   const double umax = solver.max_displacement();
-  std::cout << bending_name(bending) << " adjoint fixture: max displacement " << umax << " m (" << umax / test::pa12().thickness
+  std::cout << variant.name() << " adjoint fixture: max displacement " << umax << " m (" << umax / test::pa12().thickness
             << " h), " << stats.newton_iterations << " Newton iterations\n";
   EXPECT_GT(umax, 0.3 * test::pa12().thickness);  // geometrically nonlinear on purpose
 

@@ -142,7 +142,7 @@ TEST_P(ShellAssemblyTest, MatchesBruteForceDenseAssembly) {
     add({b.v[0], b.v[1], b.v[2], b.v[3], b.v[4], b.v[5]}, ge, he);
   }
   for (const ShellHinge& h : model.hinges()) {
-    const double s = hinge_fill_factor(h, fx.alpha);
+    const double s = hinge_fill_factor(model, h, fx.alpha);
     const Vec12 xe = hinge_positions(h, fx.x);
     add({h.v[0], h.v[1], h.v[2], h.v[3]}, hinge_gradient(xe, h.rest, s), hinge_hessian(xe, h.rest, s));
   }

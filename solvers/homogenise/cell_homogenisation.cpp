@@ -1,0 +1,266 @@
+#include "solvers/homogenise/cell_homogenisation.h"
+
+#include <cmath>
+#include <map>
+#include <span>
+#include <numbers>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <fmt/format.h>
+
+#include "host/core/error.h"
+#include "host/cut/cut_surface.h"
+#include "host/mesh/bvh.h"
+#include "host/mesh/isotropic_remesh.h"
+#include "host/stencil/frame.h"
+#include "solvers/linear/cholmod_solver.h"
+#include "solvers/shell/shell_energy.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+const double kSqrt3 = std::numbers::sqrt3;
+/// Gross area of one hexagonal-lattice cell (one hole) at spacing a = 1.
+const double kCellArea = 0.5 * kSqrt3;
+/// Number of macroscopic load cases: three membrane strains, three curvatures.
+constexpr int kCases = 6;
+
+Eigen::Matrix3d isotropic_voigt(double factor, double nu) {
+  Eigen::Matrix3d C;
+  C << 1, nu, 0, nu, 1, 0, 0, 0, 0.5 * (1 - nu);
+  return factor * C;
+}
+
+/// The macroscopic field of load case k at rest point X: in-plane u = ε̄ X (k < 3), out-of-plane
+/// w = ½ Xᵀ κ̄ X (k ≥ 3), unit Voigt component.
+Vec3 macro_displacement(int k, const Vec3& X) {
+  const double x = X.x(), y = X.y();
+  switch (k) {
+    case 0: return {x, 0, 0};                   // ε_xx
+    case 1: return {0, y, 0};                   // ε_yy
+    case 2: return {0.5 * y, 0.5 * x, 0};       // γ_xy
+    case 3: return {0, 0, 0.5 * x * x};         // κ_xx
+    case 4: return {0, 0, 0.5 * y * y};         // κ_yy
+    default: return {0, 0, 0.5 * x * y};        // 2κ_xy
+  }
+}
+
+/// Lattice vectors a₁ = (1, 0), a₂ = (½, √3/2).
+const Vec3 kA1(1, 0, 0), kA2(0.5, 0.5 * kSqrt3, 0);
+/// Lattice coordinates (s, t) of X = s a₁ + t a₂.
+Eigen::Vector2d lattice_coordinates(const Vec3& X) {
+  const double t = X.y() / (0.5 * kSqrt3);
+  return {X.x() - 0.5 * t, t};
+}
+
+/// The period cell: the rhombus spanned by a₁, a₂, meshed by the regular triangular grid of spacing
+/// 1/n, with the stencil cut out at its centre and the result remeshed at 1/n (outlines and the
+/// rhombus's sides kept: opposite sides still carry translated copies of each other's vertices).
+SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int remesh_iterations) {
+  RowMatX3d V((n + 1) * (n + 1), 3);
+  RowMatX3i F(2 * n * n, 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) V.row(j * (n + 1) + i) = ((double(i) / n) * kA1 + (double(j) / n) * kA2).transpose();
+  for (int j = 0, f = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int v = j * (n + 1) + i;
+      F.row(f++) << v, v + 1, v + n + 1;
+      F.row(f++) << v + 1, v + n + 2, v + n + 1;
+    }
+  SurfaceMesh grid(V, F, "homogenisation cell");
+  if (scale <= 0) return grid;
+  StencilParams p;
+  p.position = 0.5 * (kA1 + kA2);
+  p.scale = scale;
+  StencilLibrary library;
+  library.add(shape);
+  const FaceBvh bvh(grid);
+  const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), std::span(&p, 1));
+  RemeshOptions ro;
+  ro.target_edge_length = 1.0 / n;
+  ro.iterations = remesh_iterations;
+  RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
+  return SurfaceMesh(std::move(r.vertices), std::move(r.faces), "homogenisation cell");
+}
+
+/// The cell tiled 3 × 3 (copies translated by m a₁ + n a₂, m, n ∈ {−1, 0, 1}, welded along the
+/// shared sides), so that every face of the centre copy has its whole bending patch. `period`
+/// receives, per tiled vertex, its periodic class (one per distinct cell vertex modulo the lattice);
+/// `centre_faces` the first face of the centre copy.
+SurfaceMesh tile_cell(const SurfaceMesh& cell, std::vector<int>& period, int& centre_faces, int& classes) {
+  const int nv = cell.num_vertices(), nf = cell.num_faces();
+  // Lattice coordinates, snapped onto the sides so that copies meet exactly.
+  std::vector<Eigen::Vector2d> st(static_cast<size_t>(nv));
+  for (int v = 0; v < nv; ++v) {
+    Eigen::Vector2d c = lattice_coordinates(cell.vertices().row(v).transpose());
+    for (int k = 0; k < 2; ++k)
+      if (std::abs(c[k]) < 1e-9) c[k] = 0;
+      else if (std::abs(c[k] - 1) < 1e-9) c[k] = 1;
+    st[size_t(v)] = c;
+  }
+  const auto key = [](double s, double t) { return std::pair(std::llround(s * 1e8), std::llround(t * 1e8)); };
+  std::map<std::pair<long long, long long>, int> tiled_index, class_index;
+  std::vector<Vec3> positions;
+  std::vector<Eigen::Vector3i> faces;
+  period.clear();
+  for (int n = -1; n <= 1; ++n)
+    for (int m = -1; m <= 1; ++m) {
+      if (m == 0 && n == 0) centre_faces = int(faces.size());
+      std::vector<int> local(static_cast<size_t>(nv));
+      for (int v = 0; v < nv; ++v) {
+        const Eigen::Vector2d& c = st[size_t(v)];
+        const auto [it, added] = tiled_index.try_emplace(key(c[0] + m, c[1] + n), int(positions.size()));
+        if (added) {
+          positions.push_back(cell.vertices().row(v).transpose() + m * kA1 + n * kA2);
+          const double ps = c[0] - std::floor(c[0] + 1e-12), pt = c[1] - std::floor(c[1] + 1e-12);
+          const auto [cls, fresh] = class_index.try_emplace(key(ps, pt), int(class_index.size()));
+          period.push_back(cls->second);
+        }
+        local[size_t(v)] = it->second;
+      }
+      for (int f = 0; f < nf; ++f)
+        faces.emplace_back(local[size_t(cell.faces()(f, 0))], local[size_t(cell.faces()(f, 1))],
+                           local[size_t(cell.faces()(f, 2))]);
+    }
+  classes = int(class_index.size());
+  RowMatX3d V(Eigen::Index(positions.size()), 3);
+  RowMatX3i F(Eigen::Index(faces.size()), 3);
+  for (size_t v = 0; v < positions.size(); ++v) V.row(Eigen::Index(v)) = positions[v].transpose();
+  for (size_t f = 0; f < faces.size(); ++f) F.row(Eigen::Index(f)) = faces[f].transpose();
+  return SurfaceMesh(std::move(V), std::move(F), "tiled homogenisation cell");
+}
+
+/// One element's rest Hessian (3K×3K) over its periodic classes (−1: a node that is not a mesh
+/// vertex), with the macroscopic fields at its nodes' true positions (3K × kCases).
+struct LocalStiffness {
+  std::vector<int> cls;
+  Eigen::MatrixXd K;
+  Eigen::MatrixXd macro;
+};
+
+/// Solves the periodic cell problem: ũ (per class, 3 DOFs; class 0 held, which removes the
+/// translations) minimising Σ_e ½ (ū_e + ũ_e)ᵀ K_e (ū_e + ũ_e) for every case. Returns the
+/// homogenised 6 × 6 matrix Σ_e (ū_e + ũ_e)ᵢᵀ K_e (ū_e + ũ_e)ⱼ.
+Eigen::Matrix<double, kCases, kCases> solve_periodic(const std::vector<LocalStiffness>& elements, int classes) {
+  const int n = 3 * (classes - 1);
+  const auto dof = [](int cls) { return 3 * (cls - 1); };  // class 0 is held
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, kCases);
+  for (const LocalStiffness& el : elements) {
+    const Eigen::MatrixXd Ku = el.K * el.macro;
+    for (size_t a = 0; a < el.cls.size(); ++a) {
+      if (el.cls[a] <= 0) continue;
+      const int I = dof(el.cls[a]);
+      rhs.middleRows<3>(I) -= Ku.middleRows<3>(3 * Eigen::Index(a));
+      for (size_t b = 0; b < el.cls.size(); ++b) {
+        if (el.cls[b] <= 0) continue;
+        const int J = dof(el.cls[b]);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            const double k = el.K(3 * Eigen::Index(a) + i, 3 * Eigen::Index(b) + j);
+            if (I + i <= J + j && k != 0) triplets.emplace_back(I + i, J + j, k);
+          }
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> K(n, n);
+  K.setFromTriplets(triplets.begin(), triplets.end());
+  K.makeCompressed();
+  const std::vector<int> starts(K.outerIndexPtr(), K.outerIndexPtr() + n + 1),
+      rows(K.innerIndexPtr(), K.innerIndexPtr() + K.nonZeros());
+  CholmodSolver solver;
+  solver.analyze(n, starts, rows);
+  if (!solver.factorize(K.valuePtr()))
+    throw SolveError("homogenisation: the perforated cell's stiffness is not positive definite");
+  Eigen::MatrixXd periodic(n, kCases);
+  for (int k = 0; k < kCases; ++k) {
+    const Eigen::VectorXd b = rhs.col(k);
+    solver.solve(b.data(), periodic.col(k).data());
+  }
+  Eigen::Matrix<double, kCases, kCases> C = Eigen::Matrix<double, kCases, kCases>::Zero();
+  for (const LocalStiffness& el : elements) {
+    Eigen::MatrixXd u = el.macro;
+    for (size_t a = 0; a < el.cls.size(); ++a)
+      if (el.cls[a] > 0) u.middleRows<3>(3 * Eigen::Index(a)) += periodic.middleRows<3>(dof(el.cls[a]));
+    C += u.transpose() * el.K * u;
+  }
+  return C;
+}
+
+}  // namespace
+
+Eigen::Matrix3d solid_membrane_stiffness(const Material& m) {
+  const double nu = m.poisson_ratio;
+  return isotropic_voigt(m.youngs_modulus * m.thickness / (1 - nu * nu), nu);
+}
+
+Eigen::Matrix3d solid_bending_stiffness(const Material& m) {
+  const double nu = m.poisson_ratio;
+  return isotropic_voigt(m.youngs_modulus * std::pow(m.thickness, 3) / (12 * (1 - nu * nu)), nu);
+}
+
+double max_hole_fraction(const StencilShape& shape, double ligament) {
+  const double s = 0.25 * kSqrt3 * (1 - ligament);  // inside the rhombus's inscribed circle
+  return std::min(1.0, shape.area * s * s / kCellArea);
+}
+
+CellStiffness homogenise_cell(const StencilShape& shape, const Material& material, double fill_ratio,
+                              const CellOptions& options) {
+  if (!(options.resolution >= 6 && options.resolution <= 200))
+    throw InputError("homogenisation: the cell resolution must be in [6, 200] edges per lattice spacing");
+  const double lowest = 1 - max_hole_fraction(shape);
+  if (!(fill_ratio >= lowest && fill_ratio <= 1))
+    throw InputError(fmt::format("homogenisation: fill ratio {} of stencil '{}' outside [{:.3f}, 1] (the hole would "
+                                 "reach its neighbours)",
+                                 fill_ratio, shape.name, lowest));
+  CellStiffness out;
+  out.fill_ratio = fill_ratio;
+  out.scale = std::sqrt((1 - fill_ratio) * kCellArea / shape.area);
+  const SurfaceMesh cell = period_cell(shape, out.scale, int(std::lround(options.resolution)), options.remesh_iterations);
+  out.vertices = cell.num_vertices();
+  out.faces = cell.num_faces();
+  out.window_fill_ratio = cell.face_areas().sum() / kCellArea;
+
+  std::vector<int> period;
+  int centre = 0, classes = 0;
+  const SurfaceMesh tiled = tile_cell(cell, period, centre, classes);
+  // The shell on the tiled cell: its outer boundary pinned only to satisfy the model's checks (the
+  // centre copy's elements, the only ones used, reach one ring of faces into the neighbours).
+  LoadCase lc;
+  lc.fixed = tiled.is_boundary_vertex();
+  lc.clamped.assign(size_t(tiled.num_vertices()), false);
+  lc.gravity = Vec3(0, 0, -9.81);
+  const ShellModel model(tiled, material, lc, MechanicsSettings{});
+
+  const RowMatX3d& X = tiled.vertices();
+  std::vector<LocalStiffness> elements;
+  for (int e = 0; e < model.num_elements(); ++e) {
+    const ElementRef ref = model.element(e);
+    const int face = ref.kind == ElementKind::Membrane ? ref.index : model.bends()[size_t(ref.index)].face;
+    if (face < centre || face >= centre + cell.num_faces()) continue;
+    LocalStiffness el;
+    visit_element(model, X, e, 1.0, ElementNeed::Hessian, [&](const auto& l) {
+      el.K = l.hessian;
+      el.macro = Eigen::MatrixXd::Zero(el.K.rows(), kCases);
+      for (size_t a = 0; a < l.vertex.size(); ++a) {
+        const int v = l.vertex[a];
+        el.cls.push_back(v >= 0 ? period[size_t(v)] : -1);
+        if (v < 0) continue;
+        for (int k = 0; k < kCases; ++k)
+          el.macro.block<3, 1>(3 * Eigen::Index(a), k) = macro_displacement(k, X.row(v).transpose());
+      }
+    });
+    elements.push_back(std::move(el));
+  }
+  const Eigen::Matrix<double, kCases, kCases> C = solve_periodic(elements, classes) / kCellArea;
+  out.membrane = C.topLeftCorner<3, 3>();
+  out.bending = C.bottomRightCorner<3, 3>();
+  out.membrane_factor = (out.membrane * solid_membrane_stiffness(material).inverse()).trace() / 3;
+  out.bending_factor = (out.bending * solid_bending_stiffness(material).inverse()).trace() / 3;
+  return out;
+}
+
+}  // namespace cutwork::solvers

@@ -1,0 +1,106 @@
+#include "solvers/homogenise/fill_stiffness_calibration.h"
+
+#include <map>
+#include <mutex>
+#include <tuple>
+
+#include "host/core/error.h"
+#include "host/pattern/pattern_context.h"
+
+namespace cutwork::solvers {
+
+namespace {
+
+/// Ratios (membrane, bending) of one shape at every grid point.
+struct ShapeCurve {
+  std::vector<double> membrane, bending;
+};
+
+using CacheKey = std::tuple<std::vector<double>, double, double>;
+
+ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options) {
+  const std::vector<double>& grid = calibration_grid();
+  const double lowest = 1 - max_hole_fraction(shape);
+  ShapeCurve c;
+  double low_m = 0, low_b = 0;
+  bool have_low = false;
+  for (double alpha : grid) {
+    if (alpha >= 1) {
+      c.membrane.push_back(1);
+      c.bending.push_back(1);
+      continue;
+    }
+    const double a = std::max(alpha, lowest);
+    if (a > alpha && have_low) {
+      c.membrane.push_back(low_m);
+      c.bending.push_back(low_b);
+      continue;
+    }
+    const CellStiffness cell = homogenise_cell(shape, material, a, options);
+    const double rm = cell.membrane_factor / cell.window_fill_ratio, rb = cell.bending_factor / cell.window_fill_ratio;
+    if (a > alpha) {
+      low_m = rm;
+      low_b = rb;
+      have_low = true;
+    }
+    c.membrane.push_back(rm);
+    c.bending.push_back(rb);
+  }
+  return c;
+}
+
+}  // namespace
+
+const std::vector<double>& calibration_grid() {
+  static const std::vector<double> grid = {0.3, 0.45, 0.6, 0.75, 0.9, 1.0};
+  return grid;
+}
+
+FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const Material& material,
+                                            const CellOptions& options) {
+  if (shapes.size() < 1) throw InputError("homogenised stiffness: the design has no stencil shape");
+  static std::mutex mutex;
+  static std::map<CacheKey, ShapeCurve> cache;
+  const std::vector<double>& grid = calibration_grid();
+  FillStiffnessCurve out;
+  out.alpha = grid;
+  out.membrane.assign(grid.size(), 0.0);
+  out.bending.assign(grid.size(), 0.0);
+  for (const StencilShape& shape : shapes.shapes()) {
+    std::vector<double> polygon;
+    for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
+    const CacheKey key{polygon, material.poisson_ratio, options.resolution};
+    ShapeCurve c;
+    {
+      std::unique_lock lock(mutex);
+      auto it = cache.find(key);
+      if (it != cache.end()) c = it->second;
+    }
+    if (c.membrane.empty()) {
+      c = calibrate_shape(shape, material, options);
+      std::unique_lock lock(mutex);
+      cache.emplace(key, c);
+    }
+    for (size_t k = 0; k < grid.size(); ++k) {
+      out.membrane[k] += c.membrane[k] / shapes.size();
+      out.bending[k] += c.bending[k] / shapes.size();
+    }
+  }
+  out.membrane.back() = out.bending.back() = 1.0;  // exactly, whatever the rounding of the mean
+  return out;
+}
+
+MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,
+                                         const Material& material) {
+  MechanicsSettings m = mechanics;
+  if (m.stiffness == FillStiffness::Homogenised && m.stiffness_curve.empty())
+    m.stiffness_curve = calibrate_fill_stiffness(shapes, material);
+  return m;
+}
+
+MechanicsSettings scene_mechanics(const Scene& scene) {
+  if (scene.mechanics.stiffness == FillStiffness::Linear) return scene.mechanics;
+  return resolve_fill_stiffness(scene.mechanics, scene_stencil_library(scene), scene.material);
+}
+
+}  // namespace cutwork::solvers

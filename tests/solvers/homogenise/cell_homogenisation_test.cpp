@@ -1,0 +1,105 @@
+// Cell homogenisation (cell_homogenisation.h): a solid patch returns the closed-form plate
+// stiffnesses; dilute circular holes soften a sheet by Young's modulus 1 − 3φ (plane elasticity);
+// a hexagonal lattice of circles is isotropic in the plane; perforated stiffness lies below the
+// Voigt bound α and grows with α; the factors converge as the cell's mesh is refined.
+#include <iostream>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "host/core/error.h"
+#include "solvers/homogenise/cell_homogenisation.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
+#include "tests/solvers/support/shell_fixtures.h"
+
+namespace cutwork::solvers {
+namespace {
+
+StencilShape circle() { return make_builtin_stencil("circle", {}, "circle"); }
+
+double relative(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) { return (a - b).norm() / b.norm(); }
+
+TEST(CellHomogenisation, SolidPatchReturnsTheClosedForms) {
+  const Material m = test::pa12();
+  const CellStiffness c = homogenise_cell(circle(), m, 1.0);
+  EXPECT_NEAR(c.window_fill_ratio, 1.0, 1e-12);
+  EXPECT_LE(relative(c.membrane, solid_membrane_stiffness(m)), 1e-9) << c.membrane;
+  EXPECT_LE(relative(c.bending, solid_bending_stiffness(m)), 1e-9) << c.bending;
+  EXPECT_NEAR(c.membrane_factor, 1.0, 1e-9);
+  EXPECT_NEAR(c.bending_factor, 1.0, 1e-9);
+}
+
+TEST(CellHomogenisation, DiluteCircularHolesSoftenYoungsModulusAsPlaneElasticitySays) {
+  // Plane elasticity, a sparse array of circular holes (area fraction φ): E*/E = 1 − 3φ + O(φ²),
+  // whatever ν; the Mori–Tanaka estimate 1/(1 + 3φ), accurate for hexagonal arrays at low φ, is the
+  // other side of the O(φ²) term. At φ = 0.03 (resolution 48; converged: 0.9153) E*/E must fall
+  // between them, and be the same along x and y (hexagonal symmetry).
+  for (double nu : {0.0, 0.4}) {
+    Material m = test::pa12();
+    m.poisson_ratio = nu;
+    CellOptions o;
+    o.resolution = 48;
+    const CellStiffness c = homogenise_cell(circle(), m, 0.97, o);
+    const double phi = 1 - c.window_fill_ratio, E = m.youngs_modulus * m.thickness;
+    const double E_x = 1.0 / c.membrane.inverse()(0, 0) / E, E_y = 1.0 / c.membrane.inverse()(1, 1) / E;
+    std::cout << "nu " << nu << ": phi " << phi << ", E*/E " << E_x << " (x) " << E_y << " (y), bounds "
+              << 1 - 3 * phi << ", " << 1 / (1 + 3 * phi) << "; g_m " << c.membrane_factor << ", g_b "
+              << c.bending_factor << ", " << c.faces << " faces\n";
+    EXPECT_GT(E_x, 1 - 3 * phi) << "nu " << nu;
+    EXPECT_LT(E_x, 1 / (1 + 3 * phi)) << "nu " << nu;
+    EXPECT_NEAR(E_x, E_y, 5e-4);
+  }
+}
+
+TEST(CellHomogenisation, PerforatedStiffnessIsIsotropicBelowVoigtAndGrowsWithFill) {
+  const Material m = test::pa12();
+  double last_m = 0, last_b = 0;
+  for (double alpha : {0.4, 0.6, 0.8}) {
+    const CellStiffness c = homogenise_cell(circle(), m, alpha);
+    std::cout << "alpha " << alpha << " (window " << c.window_fill_ratio << "): g_m " << c.membrane_factor
+              << ", g_b " << c.bending_factor << "\n  C* = " << c.membrane.row(0) << " | " << c.membrane.row(1)
+              << " | " << c.membrane.row(2) << "\n";
+    EXPECT_NEAR(c.window_fill_ratio, alpha, 0.01);
+    // Hexagonal symmetry: C*_11 = C*_22 and C*_33 = (C*_11 − C*_12)/2.
+    const Eigen::Matrix3d& C = c.membrane;
+    EXPECT_NEAR(C(0, 0), C(1, 1), 0.02 * C(0, 0));
+    EXPECT_NEAR(C(2, 2), 0.5 * (C(0, 0) - C(0, 1)), 0.03 * C(2, 2));
+    EXPECT_LE(std::abs(C(0, 2)) + std::abs(C(1, 2)), 0.01 * C(0, 0));
+    EXPECT_LT(c.membrane_factor, alpha);
+    EXPECT_LT(c.bending_factor, alpha);
+    EXPECT_GT(c.membrane_factor, last_m);
+    EXPECT_GT(c.bending_factor, last_b);
+    last_m = c.membrane_factor;
+    last_b = c.bending_factor;
+  }
+}
+
+TEST(CellHomogenisation, ConvergesUnderRefinement) {
+  // α = 0.6 (circles): resolutions 24 (the default), 48 and 96 edges per lattice spacing.
+  const Material m = test::pa12();
+  std::vector<CellStiffness> c;
+  for (double resolution : {24.0, 48.0, 96.0}) {
+    CellOptions o;
+    o.resolution = resolution;
+    c.push_back(homogenise_cell(circle(), m, 0.6, o));
+    std::cout << "resolution " << resolution << " (" << c.back().faces << " faces): g_m " << c.back().membrane_factor
+              << ", g_b " << c.back().bending_factor << "\n";
+  }
+  const auto error = [&](size_t k, bool membrane) {
+    return membrane ? std::abs(c[k].membrane_factor - c[2].membrane_factor) / c[2].membrane_factor
+                    : std::abs(c[k].bending_factor - c[2].bending_factor) / c[2].bending_factor;
+  };
+  for (bool membrane : {true, false}) {
+    EXPECT_LT(error(0, membrane), 0.015) << (membrane ? "membrane" : "bending");
+    EXPECT_LT(error(1, membrane), error(0, membrane)) << (membrane ? "membrane" : "bending");
+  }
+}
+
+TEST(CellHomogenisation, RejectsFillRatiosTheLatticeCannotHold) {
+  EXPECT_THROW(homogenise_cell(circle(), test::pa12(), 0.3), InputError);
+  EXPECT_THROW(homogenise_cell(circle(), test::pa12(), 1.2), InputError);
+}
+
+}  // namespace
+}  // namespace cutwork::solvers
