@@ -27,15 +27,16 @@ int count_lines(const std::string& s) {
 
 /// The sheet scene at half the resolution (base 0.05 m, simulation 0.1 m), designed (pattern phase
 /// only: one stencil) into dir/design.
-fs::path sheet_design(const fs::path& dir) {
+fs::path sheet_design(const fs::path& dir, const std::string& stiffness = "linear") {
   const auto shown = run_cutwork("show sheet");
   EXPECT_EQ(shown.exit_code, 0) << shown.err;
   nlohmann::json doc = nlohmann::json::parse(shown.out);
   doc["mesh"]["edge_length"] = 0.05;
   doc["mesh"]["sim_edge_length"] = 0.1;
-  const fs::path scene = dir / "sheet.json";
+  doc["mechanics"]["stiffness"] = stiffness;
+  const fs::path scene = dir / ("sheet_" + stiffness + ".json");
   std::ofstream(scene) << doc.dump(2);
-  const fs::path design = dir / "design";
+  const fs::path design = dir / ("design_" + stiffness);
   const auto r = run_cutwork("design " + scene.string() + " --phases pattern --device cpu --quiet --out " +
                              design.string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -85,6 +86,29 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   for (const char* field : {"alpha", "W", "W_conforming", "W_difference", "compared"})
     EXPECT_NE(header.find(std::string("property double ") + field + "\n"), std::string::npos) << field;
   EXPECT_TRUE(fs::exists(design / "verify" / "conforming.ply"));
+  fs::remove_all(dir);
+}
+
+TEST(CliVerify, HomogenisedStiffnessOnTheSheetWithOneHole) {
+  // The same design under both fill stiffness rules against the same conforming solution (the
+  // pattern phase does not depend on the rule). Measured compliance ratios coarse / conforming:
+  // linear 0.986, homogenised 1.026 — the homogenised rule is softer, and overshoots here, where a
+  // 0.1 m triangle at the rim of a 0.2 m hole is a solid piece with a straight cut rather than a
+  // periodically perforated one (docs/DESIGN.md). Bounds with a margin of about 2.
+  const fs::path dir = test::temp_dir("verify_homogenised");
+  double ratio[2] = {0, 0};
+  int k = 0;
+  for (const char* stiffness : {"linear", "homogenised"}) {
+    const fs::path design = sheet_design(dir, stiffness);
+    const auto r = run_cutwork("verify " + design.string() + " --edge-length 0.015 --levels 1 --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_json(design / "verify" / "report.json");
+    EXPECT_EQ(report["mechanics"]["stiffness"], stiffness);
+    ratio[k++] = report["comparison"]["compliance_ratio"].get<double>();
+  }
+  EXPECT_NEAR(ratio[0], 1.0, 0.035) << ratio[0];
+  EXPECT_NEAR(ratio[1], 1.0, 0.05) << ratio[1];
+  EXPECT_GT(ratio[1], ratio[0] + 0.02);
   fs::remove_all(dir);
 }
 
