@@ -52,7 +52,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.timings.add("pattern_equilibrium", sw.seconds());
 
   r.layout = r.pattern.layout;
-  if (options.structure && scene.structure.objective != cutwork::StructuralObjective::None) {
+  if (options.structure && scene.structure.objective != StructuralObjective::None) {
     sw.restart();
     StructurePhaseOptions so;
     so.max_iterations = options.structure_iterations;

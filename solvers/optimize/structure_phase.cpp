@@ -17,12 +17,12 @@ namespace cutwork::solvers {
 namespace {
 
 /// The dimensionless S of the chosen objective at the shell's current equilibrium; W (#F) too.
-ObjectiveTerms objective_terms(const StencilledShell& shell, cutwork::StructuralObjective objective, double beta,
+ObjectiveTerms objective_terms(const StencilledShell& shell, StructuralObjective objective, double beta,
                                double w_ref, double c_ref, Eigen::VectorXd& W) {
   const ShellModel& model = shell.model();
   const RowMatX3d& x = shell.solver().positions();
   const Eigen::VectorXd& alpha = shell.solver().alpha();
-  if (objective == cutwork::StructuralObjective::Compliance) {
+  if (objective == StructuralObjective::Compliance) {
     W = energy_density(model, x, alpha);
     return compliance_objective(model, x, alpha, c_ref);
   }
@@ -47,7 +47,7 @@ std::vector<StencilParams> layout_params(const StencilLayout& layout) {
   return p;
 }
 
-StructuralTerm::StructuralTerm(StencilledShell& shell, cutwork::StructuralObjective objective, double w_S,
+StructuralTerm::StructuralTerm(StencilledShell& shell, StructuralObjective objective, double w_S,
                                double beta, double w_ref, double c_ref, double target_covered_area)
     : m_shell(shell),
       m_objective(objective),
@@ -56,7 +56,7 @@ StructuralTerm::StructuralTerm(StencilledShell& shell, cutwork::StructuralObject
       m_w_ref(w_ref),
       m_c_ref(c_ref),
       m_target(target_covered_area) {
-  if (objective == cutwork::StructuralObjective::None)
+  if (objective == StructuralObjective::None)
     throw Error("StructuralTerm: the structural objective is 'none'");
 }
 
@@ -201,7 +201,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
                                          const StencilLayout& start, double w_ref,
                                          const StructurePhaseOptions& options) {
   Stopwatch clock;
-  using Objective = cutwork::StructuralObjective;
+  using Objective = StructuralObjective;
   if (settings.objective == Objective::None) throw Error("run_structure_phase: the structural objective is 'none'");
   if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
   StructurePhaseResult result;

@@ -8,7 +8,7 @@
 
 namespace cutwork::solvers {
 
-Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const StructuralObjective& objective) {
+Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const StructuralObjectiveFn& objective) {
   if (!solver.has_solution())
     throw SolveError("sensitivities need an equilibrium: solve() has not succeeded yet");
   return fill_ratio_sensitivity(solver, objective(solver.model(), solver.positions(), solver.alpha()));

@@ -22,7 +22,7 @@ struct Sensitivity {
 
 /// dS/dα at the solver's last equilibrium (positions(), alpha()). Throws SolveError when there is
 /// none or it is unstable (see EquilibriumSolver::solve_adjoint).
-Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const StructuralObjective& objective);
+Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const StructuralObjectiveFn& objective);
 
 /// The same for objective terms already evaluated at that equilibrium.
 Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const ObjectiveTerms& terms);

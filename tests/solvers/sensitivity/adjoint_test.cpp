@@ -55,8 +55,8 @@ TEST(FillRatioPartials, MatchCentralDifferencesAtFixedPositions) {
 }
 
 /// Objectives of the kinds the optimiser uses, each with its exact partials.
-std::vector<std::pair<std::string, StructuralObjective>> objectives() {
-  std::vector<std::pair<std::string, StructuralObjective>> list;
+std::vector<std::pair<std::string, StructuralObjectiveFn>> objectives() {
+  std::vector<std::pair<std::string, StructuralObjectiveFn>> list;
   list.emplace_back("compliance", [](const ShellModel& m, const RowMatX3d& x, const Eigen::VectorXd& a) {
     return compliance_terms(m, x, a);
   });
