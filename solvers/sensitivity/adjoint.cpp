@@ -4,7 +4,7 @@
 
 #include "host/core/error.h"
 #include "host/core/timer.h"
-#include "solvers/sensitivity/fill_ratio_partials.h"
+#include "solvers/shell/fill_ratio_partials.h"
 
 namespace cutwork::solvers {
 
