@@ -13,6 +13,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 namespace {
@@ -54,12 +55,12 @@ void write_vtu(const std::filesystem::path& path, const SurfaceMesh& mesh, const
   for (const auto& [name, f] : fields.face) {
     check_xml_name(name);
     if (f.size() != nf)
-      throw InputError(fmt::format("{}: face field '{}' has {} values for {} faces", path.string(), name, f.size(), nf));
+      throw InternalError(fmt::format("{}: face field '{}' has {} values for {} faces", path.string(), name, f.size(), nf));
   }
   for (const auto& [name, f] : fields.vertex) {
     check_xml_name(name);
     if (f.rows() != nv)
-      throw InputError(
+      throw InternalError(
           fmt::format("{}: vertex field '{}' has {} rows for {} vertices", path.string(), name, f.rows(), nv));
   }
   const RowMatX3i& F = mesh.faces();
@@ -88,7 +89,7 @@ void write_vtp_polylines(const std::filesystem::path& path, const std::vector<Ro
   for (const auto& [name, f] : cell_fields) {
     check_xml_name(name);
     if (f.size() != nl)
-      throw InputError(fmt::format("{}: line field '{}' has {} values for {} lines", path.string(), name, f.size(), nl));
+      throw InternalError(fmt::format("{}: line field '{}' has {} values for {} lines", path.string(), name, f.size(), nl));
   }
   std::vector<double> points;
   std::vector<long long> connectivity, offsets;

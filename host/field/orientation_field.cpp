@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -331,7 +332,7 @@ Vec3 OrientationField::tangent(const SurfaceMesh& mesh, const SurfacePoint& wher
                                const Vec3& /*point*/, const Vec3& /*normal*/, const Mat3& d_point,
                                const Mat3& /*d_normal*/, Mat3* d_tangent) const {
   if (&mesh != m_mesh)
-    throw Error("OrientationField::tangent: called with a mesh the field was not solved on");
+    throw InternalError("OrientationField::tangent: called with a mesh the field was not solved on");
   if (!d_tangent) return direction(where);
   Eigen::Matrix3d dt;
   const Vec3 t = direction(where, &dt);

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -30,7 +31,7 @@ DetExemplar::DetExemplar(Exemplar exemplar, std::vector<int> stencil_types,
     : m_ex(std::move(exemplar)), m_types(std::move(stencil_types)), m_settings(settings) {
   const int n = int(m_ex.elements.size());
   if (m_types.size() != m_ex.type_names.size())
-    throw Error("DetExemplar: one stencil type per exemplar type is required");
+    throw InternalError("DetExemplar: one stencil type per exemplar type is required");
   m_radius = settings.r_N * m_ex.size();
   const RowMatX3d pts = embed(m_ex.elements);
   const PointGrid grid(pts, 1.25 * m_radius);

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/core/timer.h"
 #include "host/pattern/overlaps.h"
 #include "solvers/objective/energy_density.h"
@@ -57,7 +58,7 @@ StructuralTerm::StructuralTerm(StencilledShell& shell, StructuralObjective objec
       m_c_ref(c_ref),
       m_target(target_covered_area) {
   if (objective == StructuralObjective::None)
-    throw Error("StructuralTerm: the structural objective is 'none'");
+    throw InternalError("StructuralTerm: the structural objective is 'none'");
 }
 
 void StructuralTerm::place(std::span<const StencilParams> params) {
@@ -202,7 +203,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
                                          const StructurePhaseOptions& options) {
   Stopwatch clock;
   using Objective = StructuralObjective;
-  if (settings.objective == Objective::None) throw Error("run_structure_phase: the structural objective is 'none'");
+  if (settings.objective == Objective::None) throw InternalError("run_structure_phase: the structural objective is 'none'");
   if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
   StructurePhaseResult result;
   result.objective = settings.objective == Objective::EnergyDensity ? "energy_density"

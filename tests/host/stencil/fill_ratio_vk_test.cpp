@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/shapes/shapes.h"
 #include "host/stencil/fill_ratio.h"
 #include "host/vulkan/backend.h"
@@ -412,7 +413,7 @@ TEST_F(FillRatioVkTest, WithoutDerivativesAndWithoutStencils) {
   EXPECT_TRUE(vk.d_alpha().empty());
   expect_agreement(tbb, vk, mesh, lib, ieee(), 4);
   Eigen::VectorXd g;
-  EXPECT_THROW(vk.pullback(Eigen::VectorXd::Ones(vk.alpha().size()), g), InputError);
+  EXPECT_THROW(vk.pullback(Eigen::VectorXd::Ones(vk.alpha().size()), g), InternalError);
 
   // No stencils: α = 1 everywhere, a zero-length gradient; then stencils again.
   FillRatioEvaluator full(bvh, lib, vulkan_options());
