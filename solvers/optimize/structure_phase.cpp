@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -255,7 +256,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
 
   PatternPhaseOptions po;
   po.joint = &term;
-  po.max_rotation = settings.max_rotation * M_PI / 180.0;
+  po.max_rotation = settings.max_rotation * std::numbers::pi / 180.0;
   po.max_iterations = options.max_iterations >= 0 ? options.max_iterations : settings.max_iterations;
   po.progress = options.progress;
   PatternRng rng(options.seed);
