@@ -1,6 +1,7 @@
 #include "solvers/optimize/stencilled_shell.h"
 
 #include "host/core/internal_error.h"
+#include "host/core/timer.h"
 #include "solvers/sensitivity/adjoint.h"
 
 namespace cutwork::solvers {
