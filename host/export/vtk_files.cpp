@@ -196,24 +196,41 @@ long long parse_count(const Reader& r, const std::string& text, const char* what
   return n;
 }
 
+/// A VTK XML file's document (kept alive) and its <Piece>.
+struct VtkPiece {
+  XmlDoc doc{nullptr, &xmlFreeDoc};
+  xmlNode* piece = nullptr;
+};
+
+/// Reads `path` as a VTK XML file of `type` ("UnstructuredGrid", "PolyData").
+VtkPiece open_piece(const Reader& r, const std::filesystem::path& path, const std::string& type) {
+  VtkPiece p;
+  p.doc.reset(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE));
+  if (!p.doc) r.fail("cannot be read as XML");
+  xmlNode* root = xmlDocGetRootElement(p.doc.get());
+  if (!is_element(root, "VTKFile") || attribute(root, "type") != type) r.fail("not a VTK XML " + type + " file");
+  p.piece = r.need(r.need(root, type.c_str()), "Piece");
+  return p;
+}
+
+/// The coordinates (3·count) of the <Points> of `piece`.
+std::vector<double> point_coordinates(const Reader& r, xmlNode* piece, long long count) {
+  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
+  if (points == nullptr) r.fail("<Points> has no DataArray");
+  return r.numbers(points, size_t(3 * count));
+}
+
 }  // namespace
 
 VtuContents read_vtu(const std::filesystem::path& path) {
   Reader r{path.string()};
-  XmlDoc doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE),
-             &xmlFreeDoc);
-  if (!doc) r.fail("cannot be read as XML");
-  xmlNode* root = xmlDocGetRootElement(doc.get());
-  if (!is_element(root, "VTKFile") || attribute(root, "type") != "UnstructuredGrid")
-    r.fail("not a VTK XML UnstructuredGrid file");
-  xmlNode* piece = r.need(r.need(root, "UnstructuredGrid"), "Piece");
+  const VtkPiece file = open_piece(r, path, "UnstructuredGrid");
+  xmlNode* piece = file.piece;
   const long long nv = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
   const long long nf = parse_count(r, attribute(piece, "NumberOfCells"), "NumberOfCells");
 
   VtuContents out;
-  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
-  if (points == nullptr) r.fail("<Points> has no DataArray");
-  const std::vector<double> xyz = r.numbers(points, size_t(3 * nv));
+  const std::vector<double> xyz = point_coordinates(r, piece, nv);
   out.vertices = Eigen::Map<const RowMatX3d>(xyz.data(), Eigen::Index(nv), 3);
 
   const auto cells = r.arrays(r.need(piece, "Cells"));
@@ -244,17 +261,11 @@ VtuContents read_vtu(const std::filesystem::path& path) {
 
 VtpContents read_vtp_polylines(const std::filesystem::path& path) {
   Reader r{path.string()};
-  XmlDoc doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE),
-             &xmlFreeDoc);
-  if (!doc) r.fail("cannot be read as XML");
-  xmlNode* root = xmlDocGetRootElement(doc.get());
-  if (!is_element(root, "VTKFile") || attribute(root, "type") != "PolyData") r.fail("not a VTK XML PolyData file");
-  xmlNode* piece = r.need(r.need(root, "PolyData"), "Piece");
+  const VtkPiece file = open_piece(r, path, "PolyData");
+  xmlNode* piece = file.piece;
   const long long np = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
   const long long nl = parse_count(r, attribute(piece, "NumberOfLines"), "NumberOfLines");
-  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
-  if (points == nullptr) r.fail("<Points> has no DataArray");
-  const std::vector<double> xyz = r.numbers(points, size_t(3 * np));
+  const std::vector<double> xyz = point_coordinates(r, piece, np);
   const auto lines = r.arrays(r.need(piece, "Lines"));
   for (const char* name : {"connectivity", "offsets"})
     if (!lines.count(name)) r.fail(fmt::format("<Lines> has no '{}' array", name));
