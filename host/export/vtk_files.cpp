@@ -196,20 +196,26 @@ long long parse_count(const Reader& r, const std::string& text, const char* what
   return n;
 }
 
-/// A VTK XML file's document (kept alive) and its <Piece>.
+/// A VTK XML file's document (kept alive), its <Piece> and the piece's counts.
 struct VtkPiece {
   XmlDoc doc{nullptr, &xmlFreeDoc};
   xmlNode* piece = nullptr;
+  long long points = 0;  ///< NumberOfPoints
+  long long items = 0;   ///< NumberOfCells or NumberOfLines
 };
 
-/// Reads `path` as a VTK XML file of `type` ("UnstructuredGrid", "PolyData").
-VtkPiece open_piece(const Reader& r, const std::filesystem::path& path, const std::string& type) {
+/// Reads `path` as a VTK XML file of `type` ("UnstructuredGrid", "PolyData") whose items are
+/// counted by the attribute `item_count` ("NumberOfCells", "NumberOfLines").
+VtkPiece open_piece(const Reader& r, const std::filesystem::path& path, const std::string& type,
+                    const char* item_count) {
   VtkPiece p;
   p.doc.reset(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE));
   if (!p.doc) r.fail("cannot be read as XML");
   xmlNode* root = xmlDocGetRootElement(p.doc.get());
   if (!is_element(root, "VTKFile") || attribute(root, "type") != type) r.fail("not a VTK XML " + type + " file");
   p.piece = r.need(r.need(root, type.c_str()), "Piece");
+  p.points = parse_count(r, attribute(p.piece, "NumberOfPoints"), "NumberOfPoints");
+  p.items = parse_count(r, attribute(p.piece, item_count), item_count);
   return p;
 }
 
@@ -224,10 +230,9 @@ std::vector<double> point_coordinates(const Reader& r, xmlNode* piece, long long
 
 VtuContents read_vtu(const std::filesystem::path& path) {
   Reader r{path.string()};
-  const VtkPiece file = open_piece(r, path, "UnstructuredGrid");
+  const VtkPiece file = open_piece(r, path, "UnstructuredGrid", "NumberOfCells");
   xmlNode* piece = file.piece;
-  const long long nv = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
-  const long long nf = parse_count(r, attribute(piece, "NumberOfCells"), "NumberOfCells");
+  const long long nv = file.points, nf = file.items;
 
   VtuContents out;
   const std::vector<double> xyz = point_coordinates(r, piece, nv);
@@ -261,10 +266,9 @@ VtuContents read_vtu(const std::filesystem::path& path) {
 
 VtpContents read_vtp_polylines(const std::filesystem::path& path) {
   Reader r{path.string()};
-  const VtkPiece file = open_piece(r, path, "PolyData");
+  const VtkPiece file = open_piece(r, path, "PolyData", "NumberOfLines");
   xmlNode* piece = file.piece;
-  const long long np = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
-  const long long nl = parse_count(r, attribute(piece, "NumberOfLines"), "NumberOfLines");
+  const long long np = file.points, nl = file.items;
   const std::vector<double> xyz = point_coordinates(r, piece, np);
   const auto lines = r.arrays(r.need(piece, "Lines"));
   for (const char* name : {"connectivity", "offsets"})
