@@ -99,7 +99,7 @@ FillRatioEvaluator::FillRatioEvaluator(const FaceBvh& surface, const FaceBvh& si
   if (options.backend == FillBackend::Vulkan) {
 #if CUTWORK_WITH_VULKAN
     if (options.vulkan_context == nullptr)
-      throw InputError(
+      throw InternalError(
           "fill ratios: the Vulkan backend needs FillRatioOptions::vulkan_context (see "
           "select_compute_backend and FillRatioOptions::for_backend)");
     m_device = std::make_unique<Device>(options.vulkan_context);

@@ -106,8 +106,8 @@ class FillRatioEvaluator {
   /// (which get fill ratios); pass the same BVH twice when the meshes coincide. `field`
   /// supplies tangents (null: AxisTangentField with its defaults). Everything referenced must
   /// outlive the evaluator. Throws InputError for an empty library or invalid options,
-  /// InternalError for a BVH without a mesh or a Vulkan backend without vulkan_context, DeviceError for FillBackend::Vulkan in a build
-  /// without CUTWORK_WITH_VULKAN.
+  /// InternalError for a BVH without a mesh or a Vulkan backend without vulkan_context,
+  /// DeviceError for FillBackend::Vulkan in a build without CUTWORK_WITH_VULKAN.
   FillRatioEvaluator(const FaceBvh& surface, const FaceBvh& sim, const StencilLibrary& shapes,
                      const TangentField* field = nullptr, FillRatioOptions options = {});
   FillRatioEvaluator(const FaceBvh& surface, const StencilLibrary& shapes,

@@ -439,14 +439,14 @@ TEST_F(FillRatioVkTest, OptionsForABackendAndErrors) {
   EXPECT_EQ(cpu.vulkan_context, nullptr);
   ComputeBackend no_context;
   no_context.kind = ComputeBackend::Kind::Vulkan;
-  EXPECT_THROW(FillRatioOptions::for_backend(no_context), InputError);
+  EXPECT_THROW(FillRatioOptions::for_backend(no_context), InternalError);
 
   const SurfaceMesh mesh = generate_shape("bowl", {}, 0.02);
   const FaceBvh bvh(mesh);
   const StencilLibrary lib = mixed_library();
   FillRatioOptions missing;
   missing.backend = FillBackend::Vulkan;
-  EXPECT_THROW({ FillRatioEvaluator e(bvh, lib, missing); }, InputError);
+  EXPECT_THROW({ FillRatioEvaluator e(bvh, lib, missing); }, InternalError);
   // Bad stencils are rejected before anything reaches the device.
   FillRatioEvaluator ev(bvh, lib, vk);
   StencilParams bad;
