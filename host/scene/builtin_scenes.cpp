@@ -1,6 +1,7 @@
 // The built-in scenes: the paper's examples (Fig. 4, Fig. 5, Figs. 1 and 6–9) made procedurally,
 // with Table 2's parameters. Their sizes follow Table 1 (#v, #v_sim of the same order).
 #include <algorithm>
+#include <ranges>
 #include <utility>
 
 #include "host/core/error.h"
@@ -99,11 +100,8 @@ const std::vector<Entry>& entries() {
 }  // namespace
 
 const std::vector<BuiltinScene>& builtin_scenes() {
-  static const std::vector<BuiltinScene> list = [] {
-    std::vector<BuiltinScene> out;
-    for (const auto& e : entries()) out.push_back(e.info);
-    return out;
-  }();
+  static const auto infos = entries() | std::views::transform(&Entry::info);
+  static const std::vector<BuiltinScene> list(infos.begin(), infos.end());
   return list;
 }
 
