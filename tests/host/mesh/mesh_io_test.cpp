@@ -268,7 +268,7 @@ TEST(WriteObj, RejectsBadIndicesAndUnwritablePaths) {
   RowMatX3i bad = t.faces;
   bad(1, 1) = 7;
   const fs::path dir = test::temp_dir("mesh-io-bad-write");
-  EXPECT_THROW(write_obj(dir / "x.obj", t.vertices, bad), InputError);
+  EXPECT_THROW(write_obj(dir / "x.obj", t.vertices, bad), InternalError);
   EXPECT_FALSE(fs::exists(dir / "x.obj"));
   try {
     write_obj(dir / "no" / "such" / "dir.obj", t.vertices, t.faces);
