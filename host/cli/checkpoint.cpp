@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 
 namespace cutwork::cli {
 namespace fs = std::filesystem;

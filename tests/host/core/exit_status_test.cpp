@@ -17,7 +17,7 @@
 #include "host/core/exit_status.h"
 #include "host/core/internal_error.h"
 #include "host/core/output_set.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {

@@ -9,7 +9,7 @@
 #include <map>
 #include <numbers>
 
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/pattern/overlaps.h"
 #include "host/pattern/poisson_disk.h"
 #include "host/pattern/stencils_json.h"
