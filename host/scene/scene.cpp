@@ -9,7 +9,7 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/exemplar.h"
 #include "host/scene/json_reader.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 
 namespace cutwork {

@@ -25,7 +25,7 @@
 #include "host/core/error.h"
 #include "host/cut/cut_surface.h"
 #include "host/mesh/mesh_io.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/fill_ratio.h"
 #include "kernels/common/stencil_geometry.h"
 

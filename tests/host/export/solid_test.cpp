@@ -11,7 +11,7 @@
 #include "host/core/internal_error.h"
 #include "host/cut/cut_surface.h"
 #include "host/mesh/bvh.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {

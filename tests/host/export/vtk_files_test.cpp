@@ -8,7 +8,7 @@
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {

@@ -10,7 +10,7 @@
 #include "host/core/error.h"
 #include "host/field/orientation_field.h"
 #include "host/pattern/random.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 #include "../pattern/pattern_test_util.h"
 

@@ -7,7 +7,7 @@
 
 #include "host/pattern/packing_objective.h"
 #include "host/pattern/random.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "pattern_test_util.h"
 
 namespace cutwork {

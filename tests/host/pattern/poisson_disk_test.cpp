@@ -7,7 +7,7 @@
 
 #include "host/pattern/overlaps.h"
 #include "host/pattern/poisson_disk.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "pattern_test_util.h"
 
 namespace cutwork {

@@ -6,7 +6,7 @@
 #include <tbb/global_control.h>
 
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 namespace cutwork::render {
 namespace {

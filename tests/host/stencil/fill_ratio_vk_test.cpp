@@ -16,7 +16,7 @@
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/fill_ratio.h"
 #include "host/vulkan/backend.h"
 #include "host/vulkan/context.h"

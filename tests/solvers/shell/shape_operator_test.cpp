@@ -12,7 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "solvers/shell/shape_operator_energy.h"
 #include "solvers/shell/shell_energy.h"
 #include "tests/solvers/support/finite_difference.h"

@@ -1,4 +1,4 @@
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
-#include "host/shapes/domain_mesh.h"
-#include "host/shapes/rounded_polyline.h"
+#include "host/surfaces/domain_mesh.h"
+#include "host/surfaces/rounded_polyline.h"
 
 namespace cutwork {
 
