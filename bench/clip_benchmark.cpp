@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench/clip_scenario.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/fill_ratio.h"
 
 namespace cutwork {

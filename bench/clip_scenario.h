@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/broad_phase.h"
 #include "host/stencil/frame.h"
 #include "host/stencil/stencil_shape.h"

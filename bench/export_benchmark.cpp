@@ -10,7 +10,7 @@
 #include "host/export/solid.h"
 #include "host/mesh/bvh.h"
 #include "host/render/pictures.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 namespace cutwork {
 namespace {

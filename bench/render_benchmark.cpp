@@ -12,7 +12,7 @@
 
 #include "host/core/error.h"
 #include "host/render/rasterizer.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/vulkan/backend.h"
 
 namespace cutwork {

@@ -9,7 +9,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 
 namespace cutwork::cli {
 namespace fs = std::filesystem;

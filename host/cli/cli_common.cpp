@@ -1,7 +1,6 @@
 #include "host/cli/cli_common.h"
 
 #include <CLI/CLI.hpp>
-#include <tbb/global_control.h>
 
 #include <unistd.h>
 
@@ -13,7 +12,6 @@
 
 #include <fmt/format.h>
 
-#include "host/core/error.h"
 #include "host/core/work_limits.h"
 
 namespace cutwork::cli {

@@ -18,7 +18,7 @@
 #include "host/cli/outputs.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"

@@ -1,5 +1,6 @@
 // `cutwork` — design thin shells with decorative stencils that stay structurally sound.
-// Every error a user can cause ends here as one line on stderr and exit code 2.
+// Every error a user can cause ends here as one line on stderr and exit code 2; a bug in cutwork
+// (an internal error) exits with code 1.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -7,8 +8,7 @@
 #include <iostream>
 
 #include "host/cli/commands.h"
-#include "host/core/error.h"
-#include "host/core/input_file.h"
+#include "host/core/exit_status.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -35,20 +35,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "cutwork: " << e.what() << " (see cutwork --help)\n";
     return 2;
-  } catch (const cutwork::Interrupted& e) {
-    std::cerr << "cutwork: " << e.what() << "\n";
-    return 128 + e.signal();
-  } catch (const cutwork::Error& e) {
-    // One line, of bounded length, whatever a message quotes from the input.
-    std::cerr << "cutwork: " << cutwork::excerpt(e.what(), 2000) << "\n";
-    return 2;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "cutwork: out of memory (try a coarser mesh resolution)\n";
-    return 2;
-  } catch (const std::exception& e) {
-    // Anything else is a bug in cutwork, not bad input: say so, distinctly.
-    std::cerr << "cutwork: internal error: " << cutwork::excerpt(e.what(), 2000) << "\n";
-    return 1;
+  } catch (...) {
+    // User errors exit 2, interruptions 128 + signal, bugs in cutwork 1 (host/core/exit_status.h).
+    const cutwork::ExitStatus status = cutwork::exit_status_for(std::current_exception());
+    std::cerr << status.line << "\n";
+    return status.code;
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <numbers>
 
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
@@ -65,7 +66,7 @@ void print_mesh(const char* label, const SurfaceMesh& m) {
       "  bounding box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}], mean edge {:.4g} m, min angle {:.1f} deg\n",
       label, m.num_vertices(), m.num_faces(), m.num_edges(), m.boundary_loops().size(),
       m.euler_characteristic(), m.num_components(), lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
-      m.mean_edge_length(), min_angle(m) * 180.0 / M_PI);
+      m.mean_edge_length(), min_angle(m) * 180.0 / std::numbers::pi);
 }
 }  // namespace
 

@@ -16,7 +16,7 @@
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
 #include "host/cut/cut_surface.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/pattern_context.h"
 #include "host/pattern/stencils_json.h"

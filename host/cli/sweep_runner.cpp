@@ -19,7 +19,7 @@
 #include "host/cli/cli_common.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/sweep/pareto_plot.h"
 #include "host/pattern/pattern_context.h"
 #include "solvers/report/design_report.h"

@@ -17,7 +17,7 @@
 #include "host/cli/commands.h"
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "solvers/conforming/conforming_verification.h"

@@ -16,6 +16,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 namespace fs = std::filesystem;
@@ -185,7 +186,7 @@ FilePlacer placer(OutputSet& set) {
 
 fs::path OutputSet::stage(const std::string& name) {
   if (name.empty() || name[0] == '.' || name.find('/') != std::string::npos)
-    throw Error("output set: '" + name + "' is not a plain, visible file name");
+    throw InternalError("output set: '" + name + "' is not a plain, visible file name");
   if (std::find(m_names.begin(), m_names.end(), name) == m_names.end()) m_names.push_back(name);
   return m_staging / name;
 }
@@ -199,9 +200,9 @@ void OutputSet::roll_back() noexcept { restore_previous(m_dir, m_staging); }
 
 void OutputSet::publish() {
   if (std::find(m_names.begin(), m_names.end(), report_name) == m_names.end())
-    throw Error("output set: report.json was not staged (it marks a complete set)");
+    throw InternalError("output set: report.json was not staged (it marks a complete set)");
   for (const auto& n : m_names)
-    if (!present(m_staging / n)) throw Error("output set: " + n + " was staged but not written");
+    if (!present(m_staging / n)) throw InternalError("output set: " + n + " was staged but not written");
   // The new set: its files, the manifest, report.json last.
   std::vector<std::string> incoming;
   for (const auto& n : m_names)

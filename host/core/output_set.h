@@ -51,6 +51,7 @@ class OutputSet {
   std::filesystem::path stage(const std::string& name);
   /// Publishes the staged files as the folder's new set (see the file comment). Throws
   /// InputError naming the folder when a step fails; the previous set is then in place again.
+  /// Throws InternalError when report.json or a staged file was not written (a bug: nothing moves).
   void publish();
 
   /// The manifest's file name.

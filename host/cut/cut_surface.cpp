@@ -16,7 +16,7 @@
 #include <tuple>
 #include <vector>
 
-#include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/stencil/fill_ratio.h"
 #include "kernels/common/stencil_geometry.h"
 
@@ -830,7 +830,7 @@ CutSurface merge_face_cuts(const SurfaceMesh& mesh, const std::vector<FaceCut>& 
 
 CutSurface cut_stencils(const FaceBvh& surface_bvh, const StencilLibrary& shapes,
                         const TangentField& field, std::span<const StencilParams> stencils) {
-  if (surface_bvh.mesh() == nullptr) throw InputError("cut surface: the BVH has no mesh");
+  if (surface_bvh.mesh() == nullptr) throw InternalError("cut surface: the BVH has no mesh");
   const SurfaceMesh& mesh = *surface_bvh.mesh();
   const int nf = mesh.num_faces();
 

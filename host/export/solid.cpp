@@ -14,6 +14,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/stencil/frame.h"
 
 namespace cutwork {
@@ -67,7 +68,7 @@ Solid thicken_surface(const RowMatX3d& vertices, const RowMatX3i& faces, double 
     }
 
   if (normals != nullptr && normals->rows() != nv)
-    throw InputError(fmt::format("solid: {} normals for {} vertices", normals->rows(), nv));
+    throw InternalError(fmt::format("solid: {} normals for {} vertices", normals->rows(), nv));
   const RowMatX3d n = normals != nullptr ? *normals : vertex_normals(vertices, faces);
   Solid s;
   s.vertices.resize(2 * nv, 3);

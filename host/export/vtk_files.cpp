@@ -13,6 +13,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 namespace {
@@ -54,12 +55,12 @@ void write_vtu(const std::filesystem::path& path, const SurfaceMesh& mesh, const
   for (const auto& [name, f] : fields.face) {
     check_xml_name(name);
     if (f.size() != nf)
-      throw InputError(fmt::format("{}: face field '{}' has {} values for {} faces", path.string(), name, f.size(), nf));
+      throw InternalError(fmt::format("{}: face field '{}' has {} values for {} faces", path.string(), name, f.size(), nf));
   }
   for (const auto& [name, f] : fields.vertex) {
     check_xml_name(name);
     if (f.rows() != nv)
-      throw InputError(
+      throw InternalError(
           fmt::format("{}: vertex field '{}' has {} rows for {} vertices", path.string(), name, f.rows(), nv));
   }
   const RowMatX3i& F = mesh.faces();
@@ -88,7 +89,7 @@ void write_vtp_polylines(const std::filesystem::path& path, const std::vector<Ro
   for (const auto& [name, f] : cell_fields) {
     check_xml_name(name);
     if (f.size() != nl)
-      throw InputError(fmt::format("{}: line field '{}' has {} values for {} lines", path.string(), name, f.size(), nl));
+      throw InternalError(fmt::format("{}: line field '{}' has {} values for {} lines", path.string(), name, f.size(), nl));
   }
   std::vector<double> points;
   std::vector<long long> connectivity, offsets;
@@ -195,24 +196,46 @@ long long parse_count(const Reader& r, const std::string& text, const char* what
   return n;
 }
 
+/// A VTK XML file's document (kept alive), its <Piece> and the piece's counts.
+struct VtkPiece {
+  XmlDoc doc{nullptr, &xmlFreeDoc};
+  xmlNode* piece = nullptr;
+  long long points = 0;  ///< NumberOfPoints
+  long long items = 0;   ///< NumberOfCells or NumberOfLines
+};
+
+/// Reads `path` as a VTK XML file of `type` ("UnstructuredGrid", "PolyData") whose items are
+/// counted by the attribute `item_count` ("NumberOfCells", "NumberOfLines").
+VtkPiece open_piece(const Reader& r, const std::filesystem::path& path, const std::string& type,
+                    const char* item_count) {
+  VtkPiece p;
+  p.doc.reset(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE));
+  if (!p.doc) r.fail("cannot be read as XML");
+  xmlNode* root = xmlDocGetRootElement(p.doc.get());
+  if (!is_element(root, "VTKFile") || attribute(root, "type") != type) r.fail("not a VTK XML " + type + " file");
+  p.piece = r.need(r.need(root, type.c_str()), "Piece");
+  p.points = parse_count(r, attribute(p.piece, "NumberOfPoints"), "NumberOfPoints");
+  p.items = parse_count(r, attribute(p.piece, item_count), item_count);
+  return p;
+}
+
+/// The coordinates (3·count) of the <Points> of `piece`.
+std::vector<double> point_coordinates(const Reader& r, xmlNode* piece, long long count) {
+  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
+  if (points == nullptr) r.fail("<Points> has no DataArray");
+  return r.numbers(points, size_t(3 * count));
+}
+
 }  // namespace
 
 VtuContents read_vtu(const std::filesystem::path& path) {
   Reader r{path.string()};
-  XmlDoc doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE),
-             &xmlFreeDoc);
-  if (!doc) r.fail("cannot be read as XML");
-  xmlNode* root = xmlDocGetRootElement(doc.get());
-  if (!is_element(root, "VTKFile") || attribute(root, "type") != "UnstructuredGrid")
-    r.fail("not a VTK XML UnstructuredGrid file");
-  xmlNode* piece = r.need(r.need(root, "UnstructuredGrid"), "Piece");
-  const long long nv = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
-  const long long nf = parse_count(r, attribute(piece, "NumberOfCells"), "NumberOfCells");
+  const VtkPiece file = open_piece(r, path, "UnstructuredGrid", "NumberOfCells");
+  xmlNode* piece = file.piece;
+  const long long nv = file.points, nf = file.items;
 
   VtuContents out;
-  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
-  if (points == nullptr) r.fail("<Points> has no DataArray");
-  const std::vector<double> xyz = r.numbers(points, size_t(3 * nv));
+  const std::vector<double> xyz = point_coordinates(r, piece, nv);
   out.vertices = Eigen::Map<const RowMatX3d>(xyz.data(), Eigen::Index(nv), 3);
 
   const auto cells = r.arrays(r.need(piece, "Cells"));
@@ -243,17 +266,10 @@ VtuContents read_vtu(const std::filesystem::path& path) {
 
 VtpContents read_vtp_polylines(const std::filesystem::path& path) {
   Reader r{path.string()};
-  XmlDoc doc(xmlReadFile(path.c_str(), nullptr, XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_HUGE),
-             &xmlFreeDoc);
-  if (!doc) r.fail("cannot be read as XML");
-  xmlNode* root = xmlDocGetRootElement(doc.get());
-  if (!is_element(root, "VTKFile") || attribute(root, "type") != "PolyData") r.fail("not a VTK XML PolyData file");
-  xmlNode* piece = r.need(r.need(root, "PolyData"), "Piece");
-  const long long np = parse_count(r, attribute(piece, "NumberOfPoints"), "NumberOfPoints");
-  const long long nl = parse_count(r, attribute(piece, "NumberOfLines"), "NumberOfLines");
-  xmlNode* points = child(r.need(piece, "Points"), "DataArray");
-  if (points == nullptr) r.fail("<Points> has no DataArray");
-  const std::vector<double> xyz = r.numbers(points, size_t(3 * np));
+  const VtkPiece file = open_piece(r, path, "PolyData", "NumberOfLines");
+  xmlNode* piece = file.piece;
+  const long long np = file.points, nl = file.items;
+  const std::vector<double> xyz = point_coordinates(r, piece, np);
   const auto lines = r.arrays(r.need(piece, "Lines"));
   for (const char* name : {"connectivity", "offsets"})
     if (!lines.count(name)) r.fail(fmt::format("<Lines> has no '{}' array", name));

@@ -25,7 +25,7 @@ struct MeshFields {
 };
 
 /// Writes `mesh` with `fields` as a VTK UnstructuredGrid of triangles (atomic). Throws
-/// InputError when a field has the wrong size.
+/// InternalError when a field has the wrong size, InputError when the file cannot be written.
 void write_vtu(const std::filesystem::path& path, const SurfaceMesh& mesh, const MeshFields& fields);
 
 /// A .vtu file read back: points, triangles and the named arrays.

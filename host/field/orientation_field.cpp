@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <complex>
 #include <numeric>
 
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -312,7 +314,7 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
       Vec3 best = dv;
       double best_dot = -INFINITY;
       for (int m = 0; m < N; ++m) {
-        const Vec3 c = rotate_about(dv, n, 2 * M_PI * m / N);
+        const Vec3 c = rotate_about(dv, n, 2 * std::numbers::pi * m / N);
         if (c.dot(df) > best_dot) {
           best_dot = c.dot(df);
           best = c;
@@ -378,7 +380,7 @@ Vec3 OrientationField::tangent(const SurfaceMesh& mesh, const SurfacePoint& wher
                                const Vec3& /*point*/, const Vec3& /*normal*/, const Mat3& d_point,
                                const Mat3& /*d_normal*/, Mat3* d_tangent) const {
   if (&mesh != m_mesh)
-    throw Error("OrientationField::tangent: called with a mesh the field was not solved on");
+    throw InternalError("OrientationField::tangent: called with a mesh the field was not solved on");
   if (!d_tangent) return direction(where);
   Eigen::Matrix3d dt;
   const Vec3 t = direction(where, &dt);
@@ -394,7 +396,7 @@ int polygon_symmetry_order(const std::vector<Vec2>& polygon) {
   const double tol = 1e-6 * std::max(radius, 1e-300);
   for (int k = n; k >= 2; --k) {
     if (n % k) continue;
-    const double a = 2 * M_PI / k;
+    const double a = 2 * std::numbers::pi / k;
     const double c = std::cos(a), s = std::sin(a);
     bool ok = true;
     for (const Vec2& p : polygon) {

@@ -26,6 +26,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/core/input_file.h"
 #include "host/core/work_limits.h"
 #include "host/mesh/mesh_file_checks.h"
@@ -87,7 +88,7 @@ void check_faces_in_range(const fs::path& path, const RowMatX3d& vertices, const
   for (int f = 0; f < faces.rows(); ++f)
     for (int k = 0; k < 3; ++k)
       if (faces(f, k) < 0 || faces(f, k) >= vertices.rows())
-        throw InputError(fmt::format("{}: cannot write: face {} index {} out of range [0,{})",
+        throw InternalError(fmt::format("{}: cannot write: face {} index {} out of range [0,{})",
                                      path.string(), f, faces(f, k), vertices.rows()));
 }
 
@@ -524,11 +525,11 @@ void write_ply_with_face_fields(const fs::path& path, const SurfaceMesh& mesh,
           return std::isspace(c) || !std::isprint(c);
         });
     if (!valid_name)
-      throw InputError(fmt::format("{}: face field name '{}' is not a valid PLY property name "
+      throw InternalError(fmt::format("{}: face field name '{}' is not a valid PLY property name "
                                    "(non-empty, printable, no spaces)",
                                    path.string(), name));
     if (field.size() != nf)
-      throw InputError(fmt::format("{}: face field '{}' has {} entries, expected one per face ({})",
+      throw InternalError(fmt::format("{}: face field '{}' has {} entries, expected one per face ({})",
                                    path.string(), name, field.size(), nf));
   }
   std::string out;

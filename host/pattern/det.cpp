@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <deque>
+#include <numbers>
 #include <numeric>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -30,7 +32,7 @@ DetExemplar::DetExemplar(Exemplar exemplar, std::vector<int> stencil_types,
     : m_ex(std::move(exemplar)), m_types(std::move(stencil_types)), m_settings(settings) {
   const int n = int(m_ex.elements.size());
   if (m_types.size() != m_ex.type_names.size())
-    throw Error("DetExemplar: one stencil type per exemplar type is required");
+    throw InternalError("DetExemplar: one stencil type per exemplar type is required");
   m_radius = settings.r_N * m_ex.size();
   const RowMatX3d pts = embed(m_ex.elements);
   const PointGrid grid(pts, 1.25 * m_radius);
@@ -161,7 +163,7 @@ DetNeighborhood det_match_one(const DetExemplar& ex, const PatternSurface& surfa
     if (center_cost >= best_cost) continue;
     const std::vector<int>& cand = ex.neighbors(e);
     for (int k = 0; k < N; ++k) {
-      const double th = 2 * M_PI * k / N, c = std::cos(th), s = std::sin(th);
+      const double th = 2 * std::numbers::pi * k / N, c = std::cos(th), s = std::sin(th);
       for (size_t q = 0; q < outs.size(); ++q)
         rotated[q] = Vec2(c * outs[q].a.x() + s * outs[q].a.y(), -s * outs[q].a.x() + c * outs[q].a.y());
       pairs.clear();
@@ -201,7 +203,7 @@ DetNeighborhood det_match_one(const DetExemplar& ex, const PatternSurface& surfa
   }
   hood.cost = best_cost;
   hood.matches = best_assign;
-  const double th = 2 * M_PI * hood.rotation / N;
+  const double th = 2 * std::numbers::pi * hood.rotation / N;
   hood.tangent = std::cos(th) * t + std::sin(th) * b;
   hood.bitangent = n.cross(hood.tangent);
   return hood;
@@ -398,7 +400,7 @@ DetGrowthReport det_grow(const DetExemplar& ex, const PatternSurface& surface,
         const Vec3 x = ci + h.sigma * (v.x() * h.tangent + v.y() * h.bitangent);
         const int id = grower.try_insert(x, 0.5 * h.sigma * ex.spacing(),
                                          options.spacing_factor * h.sigma * ex.nearest_distance(m),
-                                         h.sigma * em.scale, em.angle + 2 * M_PI * h.rotation / N,
+                                         h.sigma * em.scale, em.angle + 2 * std::numbers::pi * h.rotation / N,
                                          ex.stencil_type(m));
         if (id >= 0) queue.push_back(id);
       }

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -59,7 +60,7 @@ void throw_darts(Exemplar& ex, PatternRng& rng, double radius_lo, double radius_
   while (fails < misses && placed < max_count) {
     const double r = rng.uniform(radius_lo, radius_hi);
     const Vec2 p(rng.uniform(r, 1 - r), rng.uniform(r, 1 - r));
-    const double angle = random_angle ? rng.uniform(0, 2 * M_PI) : 0.0;
+    const double angle = random_angle ? rng.uniform(0, 2 * std::numbers::pi) : 0.0;
     bool ok = true;
     for (const auto& e : ex.elements)
       if ((e.position - p).norm() < gap * (e.scale + r)) {

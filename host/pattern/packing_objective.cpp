@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace cutwork {
 
@@ -55,7 +56,7 @@ double repulsion_objective(const RowMatX3d& positions, double epsilon, double un
                            const std::vector<PointPair>& candidates, RowMatX3d* d_positions) {
   const double inv = 1.0 / unit;
   const double eps = epsilon * inv;
-  const double c = 1.0 / (eps * std::sqrt(2 * M_PI));
+  const double c = 1.0 / (eps * std::sqrt(2 * std::numbers::pi));
   const double shift = c * std::exp(-0.5) / (eps * eps);  // w(ε)/ε²
   double value = 0;
   for (const PointPair& pr : candidates) {

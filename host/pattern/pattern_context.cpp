@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 #include <fmt/format.h>
@@ -88,7 +89,7 @@ PatternContext::PatternContext(const Scene& scene, const SceneMeshes& meshes)
   } else {
     const double count = ps.count > 0 ? double(ps.count) : kAutomaticCount;
     if (m_kind == PatternKind::Packing) {
-      m_unit = std::sqrt(kPoissonJamming * area * mean_inv2 / (M_PI * one_plus_s * one_plus_s * count));
+      m_unit = std::sqrt(kPoissonJamming * area * mean_inv2 / (std::numbers::pi * one_plus_s * one_plus_s * count));
     } else {
       sigma0 = std::sqrt(double(ex->elements.size()) / ex->area() * area * mean_inv2 / count);
       m_unit = sigma0 * ex->mean_scale();

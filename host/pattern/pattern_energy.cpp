@@ -1,6 +1,6 @@
 #include "host/pattern/pattern_energy.h"
 
-#include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -8,7 +8,7 @@ PatternEnergy::PatternEnergy(const PatternSurface& surface, const PatternEnergyS
                              const DetExemplar* exemplar)
     : m_surface(&surface), m_settings(settings), m_exemplar(exemplar) {
   if (settings.kind == PatternKind::Exemplar && !exemplar)
-    throw Error("PatternEnergy: the exemplar objective needs an exemplar");
+    throw InternalError("PatternEnergy: the exemplar objective needs an exemplar");
 }
 
 void PatternEnergy::rematch(const StencilLayout& layout) {

@@ -5,11 +5,11 @@
 
 #include "host/core/error.h"
 #include "host/core/work_limits.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/exemplar.h"
 #include "host/scene/json_reader.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 
 namespace cutwork {

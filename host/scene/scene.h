@@ -19,7 +19,7 @@ namespace cutwork {
 /// Where the base mesh comes from: a built-in generator or a file.
 struct MeshSpec {
   std::string generator;                 ///< built-in shape name, or empty when `file` is set
-  std::map<std::string, double> params;  ///< generator parameters (validated by host/shapes)
+  std::map<std::string, double> params;  ///< generator parameters (validated by host/surfaces)
   std::filesystem::path file;            ///< mesh file (resolved relative to the scene file)
   double edge_length = 0;                ///< base-mesh target edge length (m), generators only
   double sim_edge_length = 0;            ///< simulation-mesh edge length (m); 0: same as base

@@ -1,6 +1,7 @@
 #include "host/scene/work_estimate.h"
 
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -22,7 +23,7 @@ double estimate_stencil_count(const PatternSettings& settings, const SurfaceMesh
   const SizingField sizing = SizingField::from_settings(settings, base);
   const double area = base.face_areas().sum();
   const double spacing = (1 + settings.s) * settings.scale;
-  return 0.547 * area * sizing.mean_power(base, -2.0) / (M_PI * spacing * spacing);
+  return 0.547 * area * sizing.mean_power(base, -2.0) / (std::numbers::pi * spacing * spacing);
 }
 
 void check_stencil_work(const Scene& scene, const SceneMeshes& meshes) {

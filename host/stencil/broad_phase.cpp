@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -31,7 +32,7 @@ void BroadPhase::clear() {
 
 int BroadPhase::update(std::span<const Vec3> centers, std::span<const double> scales) {
   if (centers.size() != scales.size())
-    throw InputError("broad phase: " + std::to_string(centers.size()) + " centres but " +
+    throw InternalError("broad phase: " + std::to_string(centers.size()) + " centres but " +
                      std::to_string(scales.size()) + " scales");
   const size_t n = centers.size();
   if (m_faces_of.size() != n) {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/vulkan/backend.h"
 
 #if CUTWORK_WITH_VULKAN
@@ -39,7 +40,7 @@ FillRatioOptions FillRatioOptions::for_backend(const ComputeBackend& backend) {
   FillRatioOptions o;
   if (backend.kind == ComputeBackend::Kind::Vulkan) {
     if (backend.context == nullptr)
-      throw InputError("fill ratios: the Vulkan compute backend has no context");
+      throw InternalError("fill ratios: the Vulkan compute backend has no context");
     o.backend = FillBackend::Vulkan;
     o.vulkan_context = backend.context;
   } else {
@@ -91,14 +92,14 @@ FillRatioEvaluator::FillRatioEvaluator(const FaceBvh& surface, const FaceBvh& si
       m_options(options),
       m_broad(sim, options.broad_phase) {
   if (surface.mesh() == nullptr || sim.mesh() == nullptr)
-    throw InputError("fill ratios: the BVH has no mesh");
+    throw InternalError("fill ratios: the BVH has no mesh");
   if (shapes.size() == 0) throw InputError("fill ratios: no stencil shapes");
   if (!(options.min_fill > 0 && options.min_fill < 1))
     throw InputError("fill ratios: min_fill must lie in (0, 1)");
   if (options.backend == FillBackend::Vulkan) {
 #if CUTWORK_WITH_VULKAN
     if (options.vulkan_context == nullptr)
-      throw InputError(
+      throw InternalError(
           "fill ratios: the Vulkan backend needs FillRatioOptions::vulkan_context (see "
           "select_compute_backend and FillRatioOptions::for_backend)");
     m_device = std::make_unique<Device>(options.vulkan_context);
@@ -257,9 +258,9 @@ const std::vector<kernels::ClipResult>& FillRatioEvaluator::overlaps() const { r
 void FillRatioEvaluator::pullback(const Eigen::VectorXd& d_objective_d_alpha,
                                   Eigen::VectorXd& d_objective_d_params) const {
   if (!m_options.derivatives)
-    throw InputError("fill ratios: derivatives were switched off for this evaluator");
+    throw InternalError("fill ratios: derivatives were switched off for this evaluator");
   if (d_objective_d_alpha.size() != m_alpha.size())
-    throw InputError("fill ratios: the gradient has " + std::to_string(d_objective_d_alpha.size()) +
+    throw InternalError("fill ratios: the gradient has " + std::to_string(d_objective_d_alpha.size()) +
                      " entries for " + std::to_string(m_alpha.size()) + " faces");
   const Clock::time_point start = Clock::now();
   m_report = FillRatioReport{};

@@ -70,7 +70,7 @@ struct FillRatioOptions {
   bool download_overlaps = false;
 
   /// The options that run the kernels on `backend` (select_compute_backend's result): TBB for
-  /// the CPU, Vulkan on backend.context for Vulkan; everything else default. Throws InputError
+  /// the CPU, Vulkan on backend.context for Vulkan; everything else default. Throws InternalError
   /// for a Vulkan backend without a context.
   static FillRatioOptions for_backend(const ComputeBackend& backend);
 };
@@ -105,9 +105,9 @@ class FillRatioEvaluator {
   /// Stencils live on `surface` (their frames come from it) and cover the triangles of `sim`
   /// (which get fill ratios); pass the same BVH twice when the meshes coincide. `field`
   /// supplies tangents (null: AxisTangentField with its defaults). Everything referenced must
-  /// outlive the evaluator. Throws InputError for an empty library or invalid options (a
-  /// Vulkan backend without vulkan_context), DeviceError for FillBackend::Vulkan in a build
-  /// without CUTWORK_WITH_VULKAN.
+  /// outlive the evaluator. Throws InputError for an empty library or invalid options,
+  /// InternalError for a BVH without a mesh or a Vulkan backend without vulkan_context,
+  /// DeviceError for FillBackend::Vulkan in a build without CUTWORK_WITH_VULKAN.
   FillRatioEvaluator(const FaceBvh& surface, const FaceBvh& sim, const StencilLibrary& shapes,
                      const TangentField* field = nullptr, FillRatioOptions options = {});
   FillRatioEvaluator(const FaceBvh& surface, const StencilLibrary& shapes,
@@ -145,7 +145,7 @@ class FillRatioEvaluator {
 
   /// g_p = (dα/dp)ᵀ g_α: #F → #S×5 (stencil-major, p order as above). Deterministic; the
   /// Vulkan twin equals the TBB twin bit for bit given the same dα/dp (it runs on the device
-  /// against the dα/dp the last evaluation left there). Throws InputError when derivatives are
+  /// against the dα/dp the last evaluation left there). Throws InternalError when derivatives are
   /// off or the size is wrong, DeviceError when the device fails.
   void pullback(const Eigen::VectorXd& d_objective_d_alpha,
                 Eigen::VectorXd& d_objective_d_params) const;

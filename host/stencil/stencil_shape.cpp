@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 namespace {
@@ -299,7 +300,7 @@ std::vector<Vec2> build_kind(const std::string& kind, const std::map<std::string
     return {{-h, -1}, {h, -1}, {h, -h}, {1, -h}, {1, h},   {h, h},
             {h, 1},   {-h, 1}, {-h, h}, {-1, h}, {-1, -h}, {-h, -h}};
   }
-  throw InputError("internal: unhandled stencil kind " + kind);
+  throw InternalError("unhandled stencil kind " + kind);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <ostream>
 #include <string>
 
@@ -95,7 +96,7 @@ void draw_axes(cairo_t* cr, const Panel& p, const std::string& xlabel, const std
   cairo_text_extents(cr, ylabel.c_str(), &e);
   cairo_save(cr);
   cairo_translate(cr, p.left - 78, p.top + p.height / 2);
-  cairo_rotate(cr, -M_PI / 2);
+  cairo_rotate(cr, -std::numbers::pi / 2);
   cairo_move_to(cr, -e.width / 2 - e.x_bearing, 0);
   cairo_show_text(cr, ylabel.c_str());
   cairo_restore(cr);
@@ -115,7 +116,7 @@ void draw_panel(cairo_t* cr, Panel p, const std::vector<VariantResult>& results,
   cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
   for (size_t i = 0; i < xs.size(); ++i) {
     cairo_new_sub_path(cr);
-    cairo_arc(cr, p.px(xs[i]), p.py(ys[i]), 4, 0, 2 * M_PI);
+    cairo_arc(cr, p.px(xs[i]), p.py(ys[i]), 4, 0, 2 * std::numbers::pi);
   }
   cairo_fill(cr);
   // The front as a staircase: beyond each non-dominated point, nothing is better until the next.
@@ -137,7 +138,7 @@ void draw_panel(cairo_t* cr, Panel p, const std::vector<VariantResult>& results,
     const VariantResult& r = results[i];
     const double x = p.px(100 * r.material_fraction), y = p.py(compliance ? r.compliance : r.W_max_final);
     cairo_new_sub_path(cr);
-    cairo_arc(cr, x, y, 5.5, 0, 2 * M_PI);
+    cairo_arc(cr, x, y, 5.5, 0, 2 * std::numbers::pi);
     cairo_fill(cr);
     // Labels right of their point, or left of it near the right edge.
     const bool right = x < p.left + 0.85 * p.width;

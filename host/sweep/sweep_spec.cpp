@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/pattern/random.h"
 #include "host/scene/json_reader.h"
 

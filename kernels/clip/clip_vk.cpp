@@ -20,14 +20,8 @@ static_assert(offsetof(ClipResult, d_fraction) == 8 && offsetof(ClipResult, over
 static_assert(offsetof(ClipPushVk, options) == 8 && sizeof(ClipOptions) == 8);
 
 GpuKernel clip_gpu_kernel() {
-  GpuKernel k;
-  k.name = "clip";
-  k.spirv = std::span<const uint32_t>(clip_spv);
-  k.storage_buffers = kClipBindingCount;
-  k.push_constant_bytes = sizeof(ClipPushVk);
-  k.default_workgroup_size = 64;
-  k.needs_float64 = true;
-  return k;
+  return {.name = "clip", .spirv = clip_spv, .storage_buffers = kClipBindingCount, .push_constant_bytes = sizeof(ClipPushVk),
+          .default_workgroup_size = 64, .needs_float64 = true};
 }
 
 }  // namespace cutwork::kernels

@@ -11,25 +11,13 @@ namespace cutwork::kernels {
 static_assert(offsetof(FillPushVk, params) == 8 && offsetof(FillParams, derivatives) == 8);
 
 GpuKernel fill_gpu_kernel() {
-  GpuKernel k;
-  k.name = "fill";
-  k.spirv = std::span<const uint32_t>(fill_spv);
-  k.storage_buffers = kFillBindingCount;
-  k.push_constant_bytes = sizeof(FillPushVk);
-  k.default_workgroup_size = 64;
-  k.needs_float64 = true;
-  return k;
+  return {.name = "fill", .spirv = fill_spv, .storage_buffers = kFillBindingCount, .push_constant_bytes = sizeof(FillPushVk),
+          .default_workgroup_size = 64, .needs_float64 = true};
 }
 
 GpuKernel fill_pullback_gpu_kernel() {
-  GpuKernel k;
-  k.name = "fill_pullback";
-  k.spirv = std::span<const uint32_t>(fill_pullback_spv);
-  k.storage_buffers = kPullbackBindingCount;
-  k.push_constant_bytes = sizeof(FillPullbackPushVk);
-  k.default_workgroup_size = 64;
-  k.needs_float64 = true;
-  return k;
+  return {.name = "fill_pullback", .spirv = fill_pullback_spv, .storage_buffers = kPullbackBindingCount, .push_constant_bytes = sizeof(FillPullbackPushVk),
+          .default_workgroup_size = 64, .needs_float64 = true};
 }
 
 }  // namespace cutwork::kernels

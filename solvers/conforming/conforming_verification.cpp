@@ -30,15 +30,10 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
                                  "needs a stable equilibrium",
                                  model.num_faces()));
   const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha);
+  static_cast<EquilibriumScalars&>(q) = s;
   q.vertices = model.num_vertices();
   q.faces = model.num_faces();
   q.dofs = model.num_dofs();
-  q.compliance = s.compliance;
-  q.strain_energy = s.strain_energy;
-  q.max_displacement = s.max_displacement;
-  q.max_displacement_vertex = s.max_displacement_vertex;
-  q.W_max = s.W_max;
-  q.W_max_face = s.W_max_face;
   q.material_area = alpha.dot(model.mesh().face_areas());
   q.load_total = model.external_forces(alpha).colwise().sum().transpose();
   q.newton_iterations = stats.newton_iterations;

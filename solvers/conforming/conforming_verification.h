@@ -48,16 +48,10 @@ struct ConformingOptions {
   NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
 };
 
-/// One equilibrium's scalar quantities (material only, see summarize_equilibrium).
-struct RunQuantities {
+/// One equilibrium's scalar quantities (material only, see summarize_equilibrium) and its run.
+struct RunQuantities : EquilibriumScalars {
   int vertices = 0, faces = 0, dofs = 0;
   double edge_length = 0;          ///< m (target for a conforming level; mean for the coarse mesh)
-  double compliance = 0;           ///< J
-  double strain_energy = 0;        ///< J
-  double max_displacement = 0;     ///< m, over vertices of material
-  int max_displacement_vertex = -1;
-  double W_max = 0;                ///< J/m², over faces of material
-  int W_max_face = -1;
   double material_area = 0;        ///< m²: Σ α A (coarse) or Σ A (conforming)
   Vec3 load_total = Vec3::Zero();  ///< N: dead loads plus self-weight, free and supported vertices
   int newton_iterations = 0;

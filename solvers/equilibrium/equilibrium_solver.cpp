@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/core/timer.h"
 
 namespace cutwork::solvers {
@@ -491,14 +492,13 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
 
 Eigen::VectorXd EquilibriumSolver::solve_adjoint(const Eigen::VectorXd& rhs) const {
   if (!m_has_solution)
-    throw SolveError("sensitivities need an equilibrium: solve() has not succeeded yet");
+    throw InternalError("sensitivities need an equilibrium: solve() has not succeeded yet");
   if (!m_factor_at_solution)
     throw SolveError("the equilibrium is unstable (its Hessian is not positive definite): sensitivities "
                      "are undefined there");
   if (rhs.size() != m_model.num_dofs())
-    throw SolveError(fmt::format("adjoint right-hand side has {} entries, the model {} free DOFs "
-                                 "(an internal error in cutwork)",
-                                 rhs.size(), m_model.num_dofs()));
+    throw InternalError(fmt::format("adjoint right-hand side has {} entries, the model {} free DOFs",
+                                    rhs.size(), m_model.num_dofs()));
   Stopwatch sw;
   Eigen::VectorXd out(rhs.size());
   m_cholmod.solve(rhs.data(), out.data());

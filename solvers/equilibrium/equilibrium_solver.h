@@ -139,8 +139,8 @@ class EquilibriumSolver {
   const RowMatX3d& external_forces() const { return m_forces; }
 
   /// Solves H λ = rhs with the factor of the converged Hessian H = ∂²Π/∂x² (free DOFs, #DOF).
-  /// Throws SolveError without a converged equilibrium or when it is unstable (H not positive
-  /// definite: sensitivities are undefined there).
+  /// Throws SolveError when the equilibrium is unstable (H not positive definite: sensitivities
+  /// are undefined there), InternalError without a converged equilibrium or for a wrong size.
   Eigen::VectorXd solve_adjoint(const Eigen::VectorXd& rhs) const;
   /// Seconds spent in solve_adjoint so far.
   double adjoint_seconds() const { return m_adjoint_seconds; }

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "solvers/linear/thread_policy.h"
 
 namespace cutwork::solvers {
@@ -81,7 +82,7 @@ void CholmodSolver::analyze(int n, const std::vector<int>& column_starts,
   s.release_factor();
   if (n <= 0) throw SolveError("CHOLMOD analyze: the system has no unknowns (every vertex is fixed)");
   if (int(column_starts.size()) != n + 1 || std::size_t(column_starts.back()) != row_indices.size())
-    throw SolveError("CHOLMOD analyze: inconsistent sparsity pattern (an internal error in cutwork)");
+    throw InternalError("CHOLMOD analyze: inconsistent sparsity pattern");
   s.column_starts = column_starts;
   s.row_indices = row_indices;
   cholmod_sparse& A = s.matrix;
@@ -112,7 +113,7 @@ void CholmodSolver::analyze(int n, const std::vector<int>& column_starts,
 
 bool CholmodSolver::factorize(const double* values, double shift) {
   Impl& s = *m_impl;
-  if (!s.factor) throw SolveError("CHOLMOD factorize called before analyze (an internal error in cutwork)");
+  if (!s.factor) throw InternalError("CHOLMOD factorize called before analyze");
   cholmod_sparse& A = s.matrix;
   A.xtype = CHOLMOD_REAL;
   A.x = const_cast<double*>(values);  // read only: CHOLMOD does not modify A
@@ -132,7 +133,7 @@ bool CholmodSolver::factorize(const double* values, double shift) {
 
 void CholmodSolver::solve(const double* b, double* x) const {
   const Impl& s = *m_impl;
-  if (!s.factor_valid) throw SolveError("CHOLMOD solve without a valid factor (an internal error in cutwork)");
+  if (!s.factor_valid) throw InternalError("CHOLMOD solve without a valid factor");
   cholmod_dense B;
   std::memset(&B, 0, sizeof(B));
   B.nrow = s.factor->n;

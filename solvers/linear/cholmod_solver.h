@@ -45,12 +45,12 @@ class CholmodSolver {
 
   /// Numeric factorisation of A + shift·I, where `values` (nnz, in pattern order) are A's upper
   /// triangle; the values are read, not kept. Returns false when the matrix is not positive
-  /// definite (CHOLMOD_NOT_POSDEF; the factor is then invalid). Throws SolveError when called
-  /// before analyze() or when CHOLMOD fails otherwise.
+  /// definite (CHOLMOD_NOT_POSDEF; the factor is then invalid). Throws InternalError when called
+  /// before analyze(), SolveError when CHOLMOD fails otherwise.
   bool factorize(const double* values, double shift = 0.0);
 
   /// x = (A + shift·I)⁻¹ b with the current factor (b and x: n entries; may alias).
-  /// Throws SolveError when there is no valid factor.
+  /// Throws InternalError when there is no valid factor (check factorize()'s result first).
   void solve(const double* b, double* x) const;
 
   int size() const;

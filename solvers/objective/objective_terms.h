@@ -19,8 +19,9 @@ struct ObjectiveTerms {
   Eigen::VectorXd d_alpha;
 };
 
-/// S(α, x) evaluated at positions x (#V×3) and fill ratios alpha (#F) of `model`.
-using StructuralObjective =
+/// S(α, x) evaluated at positions x (#V×3) and fill ratios alpha (#F) of `model`. (Which objective
+/// a scene asks for is the enum cutwork::StructuralObjective in host/scene/scene.h.)
+using StructuralObjectiveFn =
     std::function<ObjectiveTerms(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha)>;
 
 }  // namespace cutwork::solvers

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "solvers/objective/energy_density.h"
 #include "solvers/objective/structural_quantities.h"
 
@@ -13,7 +13,7 @@ namespace cutwork::solvers {
 ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                         double beta, double w_ref, Eigen::VectorXd* energy_density_out) {
   if (!(w_ref > 0) || !std::isfinite(w_ref) || !std::isfinite(beta))
-    throw Error("energy_density_objective: W_ref must be finite and > 0 and beta finite");
+    throw InternalError("energy_density_objective: W_ref must be finite and > 0 and beta finite");
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   const int m = model.num_faces();
   // ∂S/∂W_i = (W_i − β)₊ / (m W_ref²): the weights of the vector–Jacobian products of W.
@@ -36,7 +36,7 @@ ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d
 ObjectiveTerms compliance_objective(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     double c_ref) {
   if (!(c_ref > 0) || !std::isfinite(c_ref))
-    throw Error("compliance_objective: the reference compliance must be finite and > 0");
+    throw InternalError("compliance_objective: the reference compliance must be finite and > 0");
   ObjectiveTerms t = compliance_terms(model, x, alpha);
   t.value /= c_ref;
   t.d_positions /= c_ref;
@@ -46,13 +46,13 @@ ObjectiveTerms compliance_objective(const ShellModel& model, const RowMatX3d& x,
 
 double adaptive_threshold(const Eigen::VectorXd& energy_density, AdaptiveThreshold mode, double y_percent) {
   const int m = int(energy_density.size());
-  if (m == 0) throw Error("adaptive_threshold: no energy densities");
+  if (m == 0) throw InternalError("adaptive_threshold: no energy densities");
   std::vector<double> w(energy_density.data(), energy_density.data() + m);
   if (mode == AdaptiveThreshold::Median) {
     std::sort(w.begin(), w.end());
     return m % 2 ? w[size_t(m / 2)] : 0.5 * (w[size_t(m / 2 - 1)] + w[size_t(m / 2)]);
   }
-  if (!(y_percent > 0 && y_percent <= 100)) throw Error("adaptive_threshold: y must lie in (0, 100]");
+  if (!(y_percent > 0 && y_percent <= 100)) throw InternalError("adaptive_threshold: y must lie in (0, 100]");
   const int k = std::max(1, int(std::ceil(y_percent / 100.0 * m - 1e-9)));
   std::sort(w.begin(), w.end(), std::greater<>());
   double sum = 0;

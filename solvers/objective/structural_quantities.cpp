@@ -1,7 +1,7 @@
 #include "solvers/objective/structural_quantities.h"
 
 #include "solvers/objective/energy_density.h"
-#include "solvers/sensitivity/fill_ratio_partials.h"
+#include "solvers/shell/fill_ratio_partials.h"
 #include "solvers/shell/shell_energy.h"
 
 namespace cutwork::solvers {

@@ -30,13 +30,17 @@ std::vector<bool> material_faces(const Eigen::VectorXd& alpha);
 /// #V: vertices of at least one face of `material` (faces F, #F×3).
 std::vector<bool> material_vertices(const RowMatX3i& faces, int num_vertices, const std::vector<bool>& material);
 
-struct EquilibriumSummary {
+/// The scalar quantities of one equilibrium (see above).
+struct EquilibriumScalars {
   double strain_energy = 0;      ///< J
   double compliance = 0;         ///< J
   double max_displacement = 0;   ///< m, over vertices of material
   int max_displacement_vertex = -1;
   double W_max = 0;              ///< J/m², over faces of material
   int W_max_face = -1;
+};
+
+struct EquilibriumSummary : EquilibriumScalars {
   Eigen::VectorXd energy_density;  ///< #F, J/m² (every face, filler included)
 };
 

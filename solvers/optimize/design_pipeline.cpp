@@ -98,7 +98,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.timings.add("pattern_equilibrium", sw.seconds());
 
   r.layout = r.pattern.layout;
-  if (options.structure && scene.structure.objective != cutwork::StructuralObjective::None) {
+  if (options.structure && scene.structure.objective != StructuralObjective::None) {
     sw.restart();
     r.structure = structure_phase(scene, ctx, shell, r, options);
     r.layout = r.structure->layout;

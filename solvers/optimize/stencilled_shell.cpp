@@ -1,7 +1,8 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/optimize/stencilled_shell.h"
 
-#include "host/core/error.h"
+#include "host/core/internal_error.h"
+#include "host/core/timer.h"
 #include "solvers/sensitivity/adjoint.h"
 
 namespace cutwork::solvers {
@@ -53,14 +54,14 @@ void StencilledShell::restore_equilibrium(std::span<const StencilParams> stencil
 }
 
 EquilibriumSummary StencilledShell::summary() const {
-  if (!m_solver->has_solution()) throw SolveError("no equilibrium has been solved for yet");
+  if (!m_solver->has_solution()) throw InternalError("no equilibrium has been solved for yet");
   return summarize_equilibrium(*m_model, m_solver->positions(), m_solver->alpha());
 }
 
 void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,
                                          Eigen::VectorXd* d_alpha) {
   if (!m_derivatives)
-    throw Error("StencilledShell::parameter_gradient needs fill-ratio derivatives and a stencil");
+    throw InternalError("StencilledShell::parameter_gradient needs fill-ratio derivatives and a stencil");
   Stopwatch sw;
   const Sensitivity s = fill_ratio_sensitivity(*m_solver, terms);
   m_times.adjoint += sw.seconds();
@@ -74,7 +75,7 @@ void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::Vec
 double StencilledShell::covered_area(Eigen::VectorXd* d_params) const {
   const Eigen::VectorXd& A = m_sim->face_areas();
   if (d_params) {
-    if (!m_derivatives) throw Error("StencilledShell::covered_area: derivatives were not computed");
+    if (!m_derivatives) throw InternalError("StencilledShell::covered_area: derivatives were not computed");
     m_fill->pullback(-A, *d_params);
   }
   return A.sum() - A.dot(m_alpha);

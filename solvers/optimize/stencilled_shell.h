@@ -22,7 +22,6 @@
 
 #include <Eigen/Core>
 
-#include "host/core/timer.h"
 #include "host/mesh/bvh.h"
 #include "host/stencil/fill_ratio.h"
 #include "solvers/equilibrium/equilibrium_solver.h"

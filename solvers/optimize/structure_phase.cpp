@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <utility>
 
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/core/timer.h"
 #include "host/pattern/overlaps.h"
 #include "solvers/objective/energy_density.h"
@@ -18,12 +20,12 @@ namespace cutwork::solvers {
 namespace {
 
 /// The dimensionless S of the chosen objective at the shell's current equilibrium; W (#F) too.
-ObjectiveTerms objective_terms(const StencilledShell& shell, cutwork::StructuralObjective objective, double beta,
+ObjectiveTerms objective_terms(const StencilledShell& shell, StructuralObjective objective, double beta,
                                double w_ref, double c_ref, Eigen::VectorXd& W) {
   const ShellModel& model = shell.model();
   const RowMatX3d& x = shell.solver().positions();
   const Eigen::VectorXd& alpha = shell.solver().alpha();
-  if (objective == cutwork::StructuralObjective::Compliance) {
+  if (objective == StructuralObjective::Compliance) {
     W = energy_density(model, x, alpha);
     return compliance_objective(model, x, alpha, c_ref);
   }
@@ -41,7 +43,7 @@ bool same_params(std::span<const StencilParams> a, const std::vector<StencilPara
 
 }  // namespace
 
-StructuralTerm::StructuralTerm(StencilledShell& shell, cutwork::StructuralObjective objective, double w_S,
+StructuralTerm::StructuralTerm(StencilledShell& shell, StructuralObjective objective, double w_S,
                                double beta, double w_ref, double c_ref, double target_covered_area)
     : m_shell(shell),
       m_objective(objective),
@@ -50,8 +52,8 @@ StructuralTerm::StructuralTerm(StencilledShell& shell, cutwork::StructuralObject
       m_w_ref(w_ref),
       m_c_ref(c_ref),
       m_target(target_covered_area) {
-  if (objective == cutwork::StructuralObjective::None)
-    throw Error("StructuralTerm: the structural objective is 'none'");
+  if (objective == StructuralObjective::None)
+    throw InternalError("StructuralTerm: the structural objective is 'none'");
 }
 
 void StructuralTerm::place(std::span<const StencilParams> params) {
@@ -193,7 +195,7 @@ double StructuralTerm::evaluate(std::span<const StencilParams> params, Eigen::Ve
 
 namespace {
 
-using Objective = cutwork::StructuralObjective;
+using Objective = StructuralObjective;
 
 AdaptiveThreshold adaptive_mode(const StructureSettings& settings) {
   return settings.adaptive_mode == "median" ? AdaptiveThreshold::Median : AdaptiveThreshold::TopPercent;
@@ -262,7 +264,7 @@ void optimize_structure(PatternContext& ctx, const StencilledShell& shell, Struc
   }
   JointOptimizerOptions po;
   po.joint = &term;
-  po.max_rotation = settings.max_rotation * M_PI / 180.0;
+  po.max_rotation = settings.max_rotation * std::numbers::pi / 180.0;
   po.max_iterations = options.max_iterations >= 0 ? options.max_iterations : settings.max_iterations;
   po.progress = options.progress;
   if (cp.save)
@@ -310,7 +312,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
                                          const StencilLayout& start, double w_ref,
                                          const StructurePhaseOptions& options) {
   Stopwatch clock;
-  if (settings.objective == Objective::None) throw Error("run_structure_phase: the structural objective is 'none'");
+  if (settings.objective == Objective::None) throw InternalError("run_structure_phase: the structural objective is 'none'");
   if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
   const PhaseCheckpoints<StructurePhaseResult>& cp = options.checkpoints;
   StructurePhaseResult result;

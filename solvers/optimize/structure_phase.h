@@ -43,7 +43,7 @@ class StructuralTerm final : public JointTerm {
  public:
   /// `w_ref` (J/m²) scales energy densities (the uncut shell's W_max); `c_ref` (J) compliance.
   /// For Compliance, `target_covered_area` (m², simulation mesh) is the constraint's value.
-  StructuralTerm(StencilledShell& shell, cutwork::StructuralObjective objective, double w_S, double beta,
+  StructuralTerm(StencilledShell& shell, StructuralObjective objective, double w_S, double beta,
                  double w_ref, double c_ref, double target_covered_area);
 
   void restore(std::vector<StencilParams>& params) override;
@@ -69,14 +69,14 @@ class StructuralTerm final : public JointTerm {
   }
 
  private:
-  bool constrained() const { return m_objective == cutwork::StructuralObjective::Compliance; }
+  bool constrained() const { return m_objective == StructuralObjective::Compliance; }
   /// Sets the shell's stencils unless they are already the ones of the last restore().
   void place(std::span<const StencilParams> params);
   /// Equilibrium and objective terms at `params`; nothing without a stable equilibrium.
   std::optional<ObjectiveTerms> solve(std::span<const StencilParams> params);
 
   StencilledShell& m_shell;
-  cutwork::StructuralObjective m_objective;
+  StructuralObjective m_objective;
   double m_w_S, m_beta, m_w_ref, m_c_ref, m_target;
   double m_last_S = std::nan(""), m_last_W_max = std::nan("");
   // The last restoration: k, the original scales, ∂C/∂p at the restored parameters (#S×5).

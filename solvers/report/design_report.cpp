@@ -7,7 +7,7 @@
 #include "host/core/atomic_file.h"
 #include "host/core/output_set.h"
 #include "host/export/stencil_outlines.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "solvers/equilibrium/equilibrium_solver.h"

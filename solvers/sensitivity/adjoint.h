@@ -20,9 +20,9 @@ struct Sensitivity {
   double seconds = 0;        ///< time of the adjoint solve alone
 };
 
-/// dS/dα at the solver's last equilibrium (positions(), alpha()). Throws SolveError when there is
-/// none or it is unstable (see EquilibriumSolver::solve_adjoint).
-Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const StructuralObjective& objective);
+/// dS/dα at the solver's last equilibrium (positions(), alpha()). Throws SolveError when it is
+/// unstable, InternalError when there is none (see EquilibriumSolver::solve_adjoint).
+Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const StructuralObjectiveFn& objective);
 
 /// The same for objective terms already evaluated at that equilibrium.
 Sensitivity fill_ratio_sensitivity(const EquilibriumSolver& solver, const ObjectiveTerms& terms);

@@ -3,7 +3,7 @@
 #include <string_view>
 
 #include "host/core/error.h"
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/scene/scene.h"
 #include "host/scene/work_estimate.h"
 #include "tests/fuzz/fuzz_support.h"

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/core/output_set.h"
 #include "tests/support/test_support.h"
 
@@ -189,10 +190,10 @@ TEST(OutputSet, StaleTemporariesOfDeadRunsAreRemoved) {
 TEST(OutputSet, RefusesASetWithoutReportAndOddNames) {
   const fs::path dir = test::temp_dir("outset_odd");
   OutputSet set(dir);
-  EXPECT_THROW(set.stage("../x"), Error);
-  EXPECT_THROW(set.stage(".hidden"), Error);
+  EXPECT_THROW(set.stage("../x"), InternalError);
+  EXPECT_THROW(set.stage(".hidden"), InternalError);
   write_text(set.stage("fields.ply"), "x");
-  EXPECT_THROW(set.publish(), Error);
+  EXPECT_THROW(set.publish(), InternalError);
   fs::remove_all(dir);
 }
 

@@ -16,6 +16,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <utility>
@@ -24,7 +25,7 @@
 #include "host/core/error.h"
 #include "host/cut/cut_surface.h"
 #include "host/mesh/mesh_io.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/fill_ratio.h"
 #include "kernels/common/stencil_geometry.h"
 
@@ -710,7 +711,7 @@ TEST(CutSurface, TwoOutlinesNearlyTouchingInsideAFace) {
                      3.0;
   const double r = 0.01;
   const auto& circle = library()[0].polygon;
-  const double step = 2.0 * M_PI / double(circle.size());
+  const double step = 2.0 * std::numbers::pi / double(circle.size());
   for (double turn : {0.0, 0.5 * step}) {
     // Distance from the second circle's centre to its outline towards the first.
     const double reach =
@@ -720,7 +721,7 @@ TEST(CutSurface, TwoOutlinesNearlyTouchingInsideAFace) {
       const Vec3 c1 = touch - Vec3(r * circle[0].x(), 0, 0);
       const Vec3 c2 = touch + Vec3(gap + reach, 0, 0);
       const std::vector<StencilParams> two{stencil_at(c1, r, 0, 0.0),
-                                           stencil_at(c2, r, 0, M_PI + turn)};
+                                           stencil_at(c2, r, 0, std::numbers::pi + turn)};
       const CutSurface cut = cut_stencils(s.bvh, library(), field(), two);
       EXPECT_LT(relative_error(cut.area, fill_area(s, two)), 1e-9);
       std::printf("[ touching ] turn %.3f gap %8.1e: |area - fill| / fill = %.2e, "

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "host/mesh/bvh.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 namespace cutwork {
 namespace {

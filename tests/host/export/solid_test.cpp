@@ -8,9 +8,10 @@
 #include <fstream>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/cut/cut_surface.h"
 #include "host/mesh/bvh.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {
@@ -76,7 +77,7 @@ TEST(Solid, CutPlateAndCurvedBowlStayValidWithVolumeAreaTimesThickness) {
   EXPECT_TRUE(cb.valid()) << cb.problem;
   EXPECT_LT(cut_bowl.area, 0.99 * area) << "the stencils cut something";
   EXPECT_NEAR(cb.volume, cut_bowl.area * kThickness, 0.01 * cut_bowl.area * kThickness);
-  EXPECT_THROW(thicken_surface(cut_bowl.vertices, cut_bowl.faces, kThickness, &bowl.vertices()), InputError);
+  EXPECT_THROW(thicken_surface(cut_bowl.vertices, cut_bowl.faces, kThickness, &bowl.vertices()), InternalError);
 }
 
 TEST(Solid, ThickerThanTheCurvatureAllowsIsFoundSelfIntersecting) {

@@ -7,7 +7,8 @@
 #include <fstream>
 
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/core/internal_error.h"
+#include "host/surfaces/generators.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {
@@ -40,10 +41,10 @@ TEST(VtkFiles, WrongFieldSizesAreRejectedAndNothingIsWritten) {
   const fs::path file = test::temp_dir("vtu_bad") / "fields.vtu";
   MeshFields fields;
   fields.face["alpha"] = Eigen::VectorXd::Ones(mesh.num_faces() + 1);
-  EXPECT_THROW(write_vtu(file, mesh, fields), InputError);
+  EXPECT_THROW(write_vtu(file, mesh, fields), InternalError);
   fields.face.clear();
   fields.vertex["u"] = RowMatX3d::Zero(mesh.num_vertices() - 1, 3);
-  EXPECT_THROW(write_vtu(file, mesh, fields), InputError);
+  EXPECT_THROW(write_vtu(file, mesh, fields), InternalError);
   EXPECT_FALSE(fs::exists(file));
 }
 

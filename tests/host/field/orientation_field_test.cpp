@@ -1,6 +1,8 @@
 // The orientation field: constant on a flat plate without strokes, smooth on curved shapes,
 // aligned to sketch strokes (within 5° near a stroke), exact tangent Jacobian, and the
 // symmetry helpers.
+#include <numbers>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,7 +10,7 @@
 #include "host/core/error.h"
 #include "host/field/orientation_field.h"
 #include "host/pattern/random.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 #include "../pattern/pattern_test_util.h"
 
@@ -18,7 +20,7 @@ namespace {
 /// Smallest angle between two directions modulo 2π/N (radians, in [0, π/N]).
 double angle_mod(const Vec3& a, const Vec3& b, const Vec3& n, int N) {
   const double th = std::atan2(n.dot(a.cross(b)), a.dot(b));
-  const double period = 2 * M_PI / N;
+  const double period = 2 * std::numbers::pi / N;
   double r = std::fmod(std::abs(th), period);
   return std::min(r, period - r);
 }
@@ -70,7 +72,7 @@ TEST(OrientationField, SmoothOnCurvedShapes) {
       // Angles relative to the shared edge are comparable across the hinge.
       const double af = field.face_angles()[f] - std::atan2(edge.dot(e2f), edge.dot(e1f));
       const double ag = field.face_angles()[g] - std::atan2(edge.dot(e2g), edge.dot(e1g));
-      const double period = 2 * M_PI / 4;
+      const double period = 2 * std::numbers::pi / 4;
       double d = std::fmod(std::abs(af - ag), period);
       d = std::min(d, period - d);
       worst = std::max(worst, d);
@@ -78,8 +80,8 @@ TEST(OrientationField, SmoothOnCurvedShapes) {
       ++count;
     }
     mean /= count;
-    EXPECT_LT(mean * 180 / M_PI, 1.0) << name;
-    EXPECT_LT(worst * 180 / M_PI, 10.0) << name;
+    EXPECT_LT(mean * 180 / std::numbers::pi, 1.0) << name;
+    EXPECT_LT(worst * 180 / std::numbers::pi, 10.0) << name;
   }
 }
 
@@ -89,7 +91,7 @@ TEST(OrientationField, SketchStrokeAlignmentWithin5Degrees) {
   // it (modulo 2π/N); without the stroke it is 30° off there, so the test can fail.
   const SurfaceMesh mesh = test::flat_plate(0.2, 0.1, 0.005);
   const FaceBvh bvh(mesh);
-  const Vec3 a(0.03, 0.02, 0), b = a + 0.15 * Vec3(std::cos(M_PI / 6), std::sin(M_PI / 6), 0);
+  const Vec3 a(0.03, 0.02, 0), b = a + 0.15 * Vec3(std::cos(std::numbers::pi / 6), std::sin(std::numbers::pi / 6), 0);
   const double stencil_radius = 0.008;
   for (int N : {1, 2, 4}) {
     OrientationFieldOptions with;
@@ -115,8 +117,8 @@ TEST(OrientationField, SketchStrokeAlignmentWithin5Degrees) {
       worst0 = std::max(worst0, angle_mod(f0.direction(p), dir, Vec3::UnitZ(), N));
     }
     ASSERT_GT(near, 100);
-    EXPECT_LT(worst * 180 / M_PI, 5.0) << "N = " << N;
-    EXPECT_GT(worst0 * 180 / M_PI, 5.0) << "N = " << N << ": the stroke test would pass without a stroke";
+    EXPECT_LT(worst * 180 / std::numbers::pi, 5.0) << "N = " << N;
+    EXPECT_GT(worst0 * 180 / std::numbers::pi, 5.0) << "N = " << N << ": the stroke test would pass without a stroke";
   }
 }
 

@@ -13,7 +13,7 @@
 #include "host/cut/cut_surface.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 
 namespace cutwork {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <random>
 #include <utility>
 #include <vector>
@@ -75,7 +76,7 @@ inline MeshArrays annulus(int around, int rings) {
   std::vector<std::array<int, 3>> f;
   for (int r = 0; r <= rings; ++r)
     for (int i = 0; i < around; ++i) {
-      const double radius = 1.0 + double(r) / rings, angle = 2 * M_PI * i / around;
+      const double radius = 1.0 + double(r) / rings, angle = 2 * std::numbers::pi * i / around;
       v.push_back({radius * std::cos(angle), radius * std::sin(angle), 0});
     }
   auto id = [&](int r, int i) { return r * around + (i % around); };

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "tests/host/mesh/mesh_fixtures.h"
 #include "tests/support/test_support.h"
 
@@ -267,7 +268,7 @@ TEST(WriteObj, RejectsBadIndicesAndUnwritablePaths) {
   RowMatX3i bad = t.faces;
   bad(1, 1) = 7;
   const fs::path dir = test::temp_dir("mesh-io-bad-write");
-  EXPECT_THROW(write_obj(dir / "x.obj", t.vertices, bad), InputError);
+  EXPECT_THROW(write_obj(dir / "x.obj", t.vertices, bad), InternalError);
   EXPECT_FALSE(fs::exists(dir / "x.obj"));
   try {
     write_obj(dir / "no" / "such" / "dir.obj", t.vertices, t.faces);
@@ -324,12 +325,12 @@ TEST(WritePly, RejectsMismatchedFields) {
   try {
     write_ply_with_face_fields(dir / "f.ply", mesh, {{"alpha", Eigen::VectorXd::Zero(3)}});
     ADD_FAILURE();
-  } catch (const InputError& e) {
+  } catch (const InternalError& e) {
     EXPECT_EQ(std::string(e.what()),
               (dir / "f.ply").string() + ": face field 'alpha' has 3 entries, expected one per face (2)");
   }
   EXPECT_THROW(write_ply_with_face_fields(dir / "f.ply", mesh, {{"two words", Eigen::VectorXd::Zero(2)}}),
-               InputError);
+               InternalError);
   EXPECT_FALSE(fs::exists(dir / "f.ply"));
 }
 

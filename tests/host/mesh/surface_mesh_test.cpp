@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <set>
 
 #include "host/core/error.h"
@@ -177,9 +178,9 @@ TEST(SurfaceMesh, IcosphereCountsAndNormals) {
     for (int v = 0; v < m.num_vertices(); ++v)  // close to radial (the icosphere is irregular)
       EXPECT_GT(m.vertex_normals().row(v).dot(m.vertices().row(v)), 0.999);
     // Inscribed polyhedron: the area grows towards 4π from below.
-    EXPECT_LT(m.face_areas().sum(), 4 * M_PI);
+    EXPECT_LT(m.face_areas().sum(), 4 * std::numbers::pi);
     if (levels == 3) {
-      EXPECT_GT(m.face_areas().sum(), 0.99 * 4 * M_PI);
+      EXPECT_GT(m.face_areas().sum(), 0.99 * 4 * std::numbers::pi);
     }
     expect_consistent_connectivity(m);
     expect_geometry(m);
@@ -198,7 +199,7 @@ TEST(SurfaceMesh, AnnulusHasTwoOppositelyOrientedLoops) {
     EXPECT_EQ(int(loop.size()), around);
     const double area = signed_area_xy(m, loop);
     // Surface on the left: the outer circle runs counter-clockwise, the hole clockwise.
-    if (std::abs(area) > 2 * M_PI) {
+    if (std::abs(area) > 2 * std::numbers::pi) {
       ++outer;
       EXPECT_GT(area, 0);
       for (int v : loop) EXPECT_GE(v, rings * around);
@@ -253,10 +254,10 @@ TEST(SurfaceMesh, QualityMeasures) {
   const auto equilateral =
       test::from_lists({{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3.0) / 2, 0}}, {{0, 1, 2}});
   const SurfaceMesh e = test::make(equilateral);
-  EXPECT_NEAR(min_angle(e), M_PI / 3, 1e-14);
+  EXPECT_NEAR(min_angle(e), std::numbers::pi / 3, 1e-14);
   EXPECT_NEAR(max_aspect_ratio(e), 1.0, 1e-14);
   const SurfaceMesh s = test::make(test::square());  // right isosceles triangles
-  EXPECT_NEAR(min_angle(s), M_PI / 4, 1e-14);
+  EXPECT_NEAR(min_angle(s), std::numbers::pi / 4, 1e-14);
   // l_max² √3 / (4A) with l_max = √2, A = 1/2
   EXPECT_NEAR(max_aspect_ratio(s), std::sqrt(3.0), 1e-14);
   const auto sliver = test::from_lists({{0, 0, 0}, {1, 0, 0}, {0.5, 0.01, 0}}, {{0, 1, 2}});

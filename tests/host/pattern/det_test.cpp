@@ -5,7 +5,7 @@
 #include "host/core/error.h"
 #include "host/pattern/det.h"
 #include "host/pattern/overlaps.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "pattern_test_util.h"
 
 namespace cutwork {

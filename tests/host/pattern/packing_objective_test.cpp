@@ -1,11 +1,13 @@
 // The packing terms (1)–(5): analytic gradients against central differences (error against
 // step printed on failure), values against hand computations, grid candidates against the
 // brute-force twin.
+#include <numbers>
+
 #include <gtest/gtest.h>
 
 #include "host/pattern/packing_objective.h"
 #include "host/pattern/random.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "pattern_test_util.h"
 
 namespace cutwork {
@@ -97,8 +99,8 @@ TEST(PackingObjective, RepulsionGradientAndContinuity) {
   // Value: w(d)/d² − w(ε)/ε² in ℓ units, w = (ε√2π)⁻¹ exp(−d²/2ε²).
   two(1, 0) = 0.5;
   const double e = eps / unit, d = 0.5 / unit;
-  const double w = std::exp(-d * d / (2 * e * e)) / (e * std::sqrt(2 * M_PI));
-  const double we = std::exp(-0.5) / (e * std::sqrt(2 * M_PI));
+  const double w = std::exp(-d * d / (2 * e * e)) / (e * std::sqrt(2 * std::numbers::pi));
+  const double we = std::exp(-0.5) / (e * std::sqrt(2 * std::numbers::pi));
   EXPECT_NEAR(repulsion_objective(two, eps, unit, c2, nullptr), w / (d * d) - we / (e * e), 1e-14);
 }
 

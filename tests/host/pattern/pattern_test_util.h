@@ -12,7 +12,7 @@
 
 #include "host/core/types.h"
 #include "host/mesh/surface_mesh.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 namespace cutwork::test {
 

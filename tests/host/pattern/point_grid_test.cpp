@@ -5,7 +5,7 @@
 #include "host/pattern/boundary_distance.h"
 #include "host/pattern/point_grid.h"
 #include "host/pattern/random.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "pattern_test_util.h"
 
 namespace cutwork {

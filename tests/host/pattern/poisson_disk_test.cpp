@@ -1,11 +1,13 @@
 // Poisson-disk initialisation and the admissibility checks: clearances, saturation, count,
 // uniformity (area-weighted sampling), determinism; overlap checks against the brute-force
 // twin and overlap resolution.
+#include <numbers>
+
 #include <gtest/gtest.h>
 
 #include "host/pattern/overlaps.h"
 #include "host/pattern/poisson_disk.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "pattern_test_util.h"
 
 namespace cutwork {
@@ -37,7 +39,7 @@ TEST(PoissonDisk, AdmissibleMaximalAndDeterministic) {
     }
     // Saturation: random sequential packing of exclusion disks of radius (1+s) r covers about
     // 54.7% of the plane; with boundary losses at least 40% here (flat plate: ≥ 45%).
-    const double disk = M_PI * std::pow((1 + o.safety) * o.unit, 2);
+    const double disk = std::numbers::pi * std::pow((1 + o.safety) * o.unit, 2);
     const double fraction = added * disk / surface->area();
     EXPECT_GT(fraction, 0.40) << name;
     EXPECT_LT(fraction, 0.60) << name;

@@ -9,7 +9,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "tests/host/render/render_fixtures.h"
 #include "tests/support/test_support.h"
 

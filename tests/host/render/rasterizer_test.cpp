@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 namespace cutwork::render {
 namespace {

@@ -23,7 +23,7 @@
 #include "host/render/pictures.h"
 #include "host/render/rasterizer.h"
 #include "host/render/rasterizer_vk.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/vulkan/backend.h"
 #include "host/vulkan/context.h"
 #include "tests/host/render/render_fixtures.h"

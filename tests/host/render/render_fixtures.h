@@ -12,7 +12,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/render/pictures.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork::test {

@@ -7,7 +7,7 @@
 #include <random>
 #include <set>
 
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/broad_phase.h"
 #include "host/stencil/fill_ratio.h"
 

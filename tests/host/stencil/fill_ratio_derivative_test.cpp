@@ -8,7 +8,7 @@
 #include <string>
 #include <random>
 
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/fill_ratio.h"
 #include "tests/host/stencil/fd_check.h"
 #include "tests/host/stencil/stencil_fixtures.h"

@@ -15,7 +15,8 @@
 #include <vector>
 
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/core/internal_error.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/fill_ratio.h"
 #include "host/vulkan/backend.h"
 #include "host/vulkan/context.h"
@@ -400,7 +401,7 @@ TEST_F(FillRatioVkTest, WithoutDerivativesAndWithoutStencils) {
   EXPECT_TRUE(vk.d_alpha().empty());
   expect_agreement(tbb, vk, mesh, lib, ieee(), 4);
   Eigen::VectorXd g;
-  EXPECT_THROW(vk.pullback(Eigen::VectorXd::Ones(vk.alpha().size()), g), InputError);
+  EXPECT_THROW(vk.pullback(Eigen::VectorXd::Ones(vk.alpha().size()), g), InternalError);
 
   // No stencils: α = 1 everywhere, a zero-length gradient; then stencils again.
   FillRatioEvaluator full(bvh, lib, vulkan_options());
@@ -426,14 +427,14 @@ TEST_F(FillRatioVkTest, OptionsForABackendAndErrors) {
   EXPECT_EQ(cpu.vulkan_context, nullptr);
   ComputeBackend no_context;
   no_context.kind = ComputeBackend::Kind::Vulkan;
-  EXPECT_THROW(FillRatioOptions::for_backend(no_context), InputError);
+  EXPECT_THROW(FillRatioOptions::for_backend(no_context), InternalError);
 
   const SurfaceMesh mesh = generate_shape("bowl", {}, 0.02);
   const FaceBvh bvh(mesh);
   const StencilLibrary lib = mixed_library();
   FillRatioOptions missing;
   missing.backend = FillBackend::Vulkan;
-  EXPECT_THROW({ FillRatioEvaluator e(bvh, lib, missing); }, InputError);
+  EXPECT_THROW({ FillRatioEvaluator e(bvh, lib, missing); }, InternalError);
   // Bad stencils are rejected before anything reaches the device.
   FillRatioEvaluator ev(bvh, lib, vk);
   StencilParams bad;

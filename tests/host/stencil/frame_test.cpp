@@ -6,7 +6,7 @@
 #include <random>
 
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "host/stencil/frame.h"
 
 namespace cutwork {

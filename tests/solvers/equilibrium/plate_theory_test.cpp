@@ -4,6 +4,7 @@
 // a cantilever strip and a free strip's anticlastic curvature; and the paper's hinge model where it
 // is right (clamped plates) and where it is not (its Poisson coupling).
 #include <cmath>
+#include <numbers>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -137,7 +138,7 @@ struct AnnularPlate {
         s += 0.5 * (r1 - r0) * w(r) * r;
       }
     }
-    return 2 * M_PI * q * s;
+    return 2 * std::numbers::pi * q * s;
   }
 };
 

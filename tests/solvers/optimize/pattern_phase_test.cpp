@@ -7,8 +7,9 @@
 
 #include <algorithm>
 #include <map>
+#include <numbers>
 
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 #include "host/pattern/overlaps.h"
 #include "host/pattern/poisson_disk.h"
 #include "host/pattern/stencils_json.h"
@@ -161,7 +162,7 @@ PatternStats stats_2d(const std::vector<Vec2>& pts, const std::function<bool(con
       const Vec2 d = pts[j] - pts[i];
       best = std::min(best, d.norm());
       if (d.norm() <= radius) {
-        double a = std::atan2(d.y(), d.x()) * 180 / M_PI;
+        double a = std::atan2(d.y(), d.x()) * 180 / std::numbers::pi;
         a = std::fmod(a + 360.0 + 7.5, 180.0);  // fold, shift by half a bin
         st.hist[size_t(std::min(11, int(a / 15.0)))] += 1;
         total += 1;
@@ -274,7 +275,7 @@ TEST(PatternPhase, DetReproducesStripesAndCirclesOnAFlatPlate) {
     PatternRng jitter(11);
     const double amplitude = 0.3 * ctx.exemplar()->spacing() * ctx.exemplar()->settings().sigma;
     for (auto& st : jittered) {
-      const double a = jitter.uniform(0, 2 * M_PI), rad = amplitude * std::sqrt(jitter.uniform());
+      const double a = jitter.uniform(0, 2 * std::numbers::pi), rad = amplitude * std::sqrt(jitter.uniform());
       const ClosestPoint cp = ctx.surface().project(st.position + rad * Vec3(std::cos(a), std::sin(a), 0));
       st.position = cp.point;
       st.where = cp.where;

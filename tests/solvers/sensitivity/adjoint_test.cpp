@@ -10,7 +10,7 @@
 #include "solvers/objective/energy_density.h"
 #include "solvers/objective/structural_quantities.h"
 #include "solvers/sensitivity/adjoint.h"
-#include "solvers/sensitivity/fill_ratio_partials.h"
+#include "solvers/shell/fill_ratio_partials.h"
 #include "solvers/shell/shell_energy.h"
 #include "tests/solvers/support/finite_difference.h"
 #include "tests/solvers/support/shell_fixtures.h"
@@ -66,8 +66,8 @@ TEST(FillRatioPartials, MatchCentralDifferencesAtFixedPositions) {
 }
 
 /// Objectives of the kinds the optimiser uses, each with its exact partials.
-std::vector<std::pair<std::string, StructuralObjective>> objectives() {
-  std::vector<std::pair<std::string, StructuralObjective>> list;
+std::vector<std::pair<std::string, StructuralObjectiveFn>> objectives() {
+  std::vector<std::pair<std::string, StructuralObjectiveFn>> list;
   list.emplace_back("compliance", [](const ShellModel& m, const RowMatX3d& x, const Eigen::VectorXd& a) {
     return compliance_terms(m, x, a);
   });

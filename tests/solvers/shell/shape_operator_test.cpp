@@ -5,13 +5,14 @@
 // Poisson coupling (ν = −1/3 whatever the material).
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <random>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 #include "solvers/shell/shape_operator_energy.h"
 #include "solvers/shell/shell_energy.h"
 #include "tests/solvers/support/finite_difference.h"
@@ -159,7 +160,7 @@ double kirchhoff_density(const Eigen::Matrix2d& k, double D, double nu) {
 
 HeightField cylinder(double R, double phi) {
   const Vec2 d(std::cos(phi), std::sin(phi));
-  return {fmt::format("cylinder {:.0f} deg", phi * 180 / M_PI),
+  return {fmt::format("cylinder {:.0f} deg", phi * 180 / std::numbers::pi),
           [=](const Vec2& p) { const double u = p.dot(d); return R - std::sqrt(R * R - u * u); },
           [=](const Vec2& p) { const double u = p.dot(d); return Vec2(u / std::sqrt(R * R - u * u) * d); },
           [=](const Vec2& p) {
@@ -179,7 +180,7 @@ HeightField sphere(double R) {
 
 HeightField twist(double tau, double phi) {
   const Vec2 d(std::cos(phi), std::sin(phi)), e(-std::sin(phi), std::cos(phi));
-  return {fmt::format("twist {:.0f} deg", phi * 180 / M_PI),
+  return {fmt::format("twist {:.0f} deg", phi * 180 / std::numbers::pi),
           [=](const Vec2& p) { return tau * p.dot(d) * p.dot(e); },
           [=](const Vec2& p) { return Vec2(tau * (p.dot(e) * d + p.dot(d) * e)); },
           [=](const Vec2&) { return Eigen::Matrix2d(tau * (d * e.transpose() + e * d.transpose())); }};
@@ -256,8 +257,8 @@ TEST(ShapeOperatorEnergy, MatchesKirchhoffOnCylindersSpheresAndTwistsOnAnyMesh) 
   for (double R : {20.0, 2.0}) {
     surfaces.push_back(sphere(R));
     for (int deg = 0; deg < 180; deg += 15) {
-      surfaces.push_back(cylinder(R, deg * M_PI / 180));
-      surfaces.push_back(twist(1.0 / R, deg * M_PI / 180));
+      surfaces.push_back(cylinder(R, deg * std::numbers::pi / 180));
+      surfaces.push_back(twist(1.0 / R, deg * std::numbers::pi / 180));
     }
   }
   std::string table;

@@ -3,6 +3,7 @@
 /// counter-clockwise seen from +z (normals +z).
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -129,13 +130,13 @@ inline SurfaceMesh annulus(double r_in, double r_out, double h) {
     if (r == 0) {
       ring.push_back(int(verts.size()));
       verts.emplace_back(0, 0, 0);
-      step.push_back(2 * M_PI);
+      step.push_back(2 * std::numbers::pi);
       offset.push_back(0);
     } else {
       // A disc is a hexagonal lattice bent onto rings (ring j has 6j vertices, aligned per 60°
       // sector): near-equilateral everywhere, the centre included.
-      const int n = r_in == 0 ? 6 * j : std::max(6, int(std::lround(2 * M_PI * r / h)));
-      step.push_back(2 * M_PI / n);
+      const int n = r_in == 0 ? 6 * j : std::max(6, int(std::lround(2 * std::numbers::pi * r / h)));
+      step.push_back(2 * std::numbers::pi / n);
       offset.push_back(r_in == 0 || j % 2 == 0 ? 0.0 : 0.5 * step.back());
       for (int i = 0; i < n; ++i) {
         const double t = offset.back() + step.back() * i;

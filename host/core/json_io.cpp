@@ -1,4 +1,4 @@
-#include "host/io/json_io.h"
+#include "host/core/json_io.h"
 
 #include <set>
 #include <vector>

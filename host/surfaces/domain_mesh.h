@@ -1,7 +1,7 @@
 #pragma once
-/// Private to host/shapes: near-equilateral triangulations of 2-D parameter domains (a
+/// Private to host/surfaces: near-equilateral triangulations of 2-D parameter domains (a
 /// rectangle and a disk) and a tangential relaxation of such a triangulation once it is mapped
-/// onto a surface. The built-in shapes (shapes.cpp) map these domains to 3-D.
+/// onto a surface. The built-in shapes (generators.cpp) map these domains to 3-D.
 #include <functional>
 #include <vector>
 

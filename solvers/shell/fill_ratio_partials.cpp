@@ -1,4 +1,4 @@
-#include "solvers/sensitivity/fill_ratio_partials.h"
+#include "solvers/shell/fill_ratio_partials.h"
 
 #include <vector>
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "host/core/error.h"
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 namespace cutwork {
 namespace {

@@ -1,4 +1,4 @@
-#include "host/shapes/rounded_polyline.h"
+#include "host/surfaces/rounded_polyline.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "host/shapes/domain_mesh.h"
+#include "host/surfaces/domain_mesh.h"
 
 #include <algorithm>
 #include <cmath>

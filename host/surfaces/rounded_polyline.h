@@ -1,5 +1,5 @@
 #pragma once
-/// Private to host/shapes: a planar polyline whose interior corners are rounded by circular
+/// Private to host/surfaces: a planar polyline whose interior corners are rounded by circular
 /// arcs, parametrised by arc length. The table and chair are such a profile (in the x-z plane)
 /// extruded along y; meshing the (arc length × width) rectangle then gives an isometric map,
 /// so the lattice's triangles stay near-equilateral in 3-D.

@@ -1,4 +1,4 @@
-#include "host/shapes/shapes.h"
+#include "host/surfaces/generators.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
-#include "host/shapes/domain_mesh.h"
-#include "host/shapes/rounded_polyline.h"
+#include "host/surfaces/domain_mesh.h"
+#include "host/surfaces/rounded_polyline.h"
 
 namespace cutwork {
 
@@ -391,6 +391,22 @@ Definition pavilion_definition() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Shapes extruded from a rounded profile (table, chair): the coarsest edge length, the face
+// count and the mesh, from the profile and the parameter `extent_key` (the extrusion length).
+
+void set_extruded(Definition& d, RoundedPolyline (*profile)(const ShapeParameters&), const char* extent_key) {
+  d.max_edge_length = [=](const ShapeParameters& p) {
+    return std::min({0.5 * get(p, extent_key), 2 * get(p, "corner_radius"), 0.25 * profile(p).length()});
+  };
+  d.num_faces = [=](const ShapeParameters& p, double h) {
+    return extruded_num_faces(profile(p), get(p, extent_key), h);
+  };
+  d.generate = [=](const ShapeParameters& p, double h, const std::string& what) {
+    return extruded_profile(profile(p), get(p, extent_key), h, what);
+  };
+}
+
+// ---------------------------------------------------------------------------------------------
 // table: ∩-shaped monocoque, profile (−L/2, 0) ↑ (−L/2, H) → (L/2, H) ↓ (L/2, 0), extruded
 // over y ∈ [−depth/2, depth/2].
 
@@ -418,16 +434,7 @@ Definition table_definition() {
         {"height", 0.1, 2.0},
         {"corner_radius", 0.01, RoundedPolyline::max_radius(table_corners(p))}};
   };
-  d.max_edge_length = [](const ShapeParameters& p) {
-    return std::min({0.5 * get(p, "depth"), 2 * get(p, "corner_radius"),
-                     0.25 * table_profile(p).length()});
-  };
-  d.num_faces = [](const ShapeParameters& p, double h) {
-    return extruded_num_faces(table_profile(p), get(p, "depth"), h);
-  };
-  d.generate = [](const ShapeParameters& p, double h, const std::string& what) {
-    return extruded_profile(table_profile(p), get(p, "depth"), h, what);
-  };
+  set_extruded(d, table_profile, "depth");
   return d;
 }
 
@@ -476,16 +483,7 @@ Definition chair_definition() {
         {"runner_end", start + 0.05, start + 2.0},
         {"corner_radius", 0.01, RoundedPolyline::max_radius(chair_corners(p))}};
   };
-  d.max_edge_length = [](const ShapeParameters& p) {
-    return std::min({0.5 * get(p, "width"), 2 * get(p, "corner_radius"),
-                     0.25 * chair_profile(p).length()});
-  };
-  d.num_faces = [](const ShapeParameters& p, double h) {
-    return extruded_num_faces(chair_profile(p), get(p, "width"), h);
-  };
-  d.generate = [](const ShapeParameters& p, double h, const std::string& what) {
-    return extruded_profile(chair_profile(p), get(p, "width"), h, what);
-  };
+  set_extruded(d, chair_profile, "width");
   return d;
 }
 
