@@ -63,15 +63,16 @@ double ordered_sum(const std::vector<double>& v) {
 
 double finite_or_inf(double e) { return std::isfinite(e) ? e : INFINITY; }
 
-/// Runs body(e) for every element with a DOF, one colour at a time: elements of one colour share no
-/// node, so their scatters never collide, and every slot receives its contributions in colour order
-/// whatever the thread count.
+/// Runs body(e) for every element, one colour of chunks at a time (BlockAssembly::chunk_colours):
+/// chunks of one colour share no node, so their scatters never collide, and every slot receives its
+/// contributions in the same order whatever the thread count.
 template <typename Body>
 void for_each_element_by_colour(const BlockAssembly& asmb, Body&& body) {
-  for (const std::vector<int>& colour : asmb.colours()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, colour.size(), 256),
+  for (const std::vector<BlockAssembly::Chunk>& colour : asmb.chunk_colours()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, colour.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) body(colour[i]);
+                        for (std::size_t i = r.begin(); i < r.end(); ++i)
+                          for (int e = colour[i].begin; e < colour[i].end; ++e) body(e);
                       });
   }
 }
@@ -112,9 +113,6 @@ void assemble_shell(const ShellModel& model, const RowMatX3d& x, const Eigen::Ve
       out.element_energy[e] = finite_or_inf(l.energy);
     });
   });
-  for (int e : asmb.uncoloured())
-    visit_element(model, x, e, element_fill_factor(model, alpha, e), ElementNeed::Energy,
-                  [&](const auto& l) { out.element_energy[e] = finite_or_inf(l.energy); });
   out.energy = ordered_sum(out.element_energy);
 }
 
