@@ -9,7 +9,7 @@
 //     (Newton–Krylov steps and their conjugate-gradient iterations), factor_nonzeros, gflop (one
 //     factorisation), assembly_s, factorization_s, solve_s (CG included) per equilibrium, peak_gib;
 //     the ordering as label. The 2e5 size takes a minute on two cores; select sizes with
-//     --benchmark_filter='Sheet/2000$' etc.
+//     --benchmark_filter='Sheet/2000/' etc.
 //
 //   BM_Design_PavilionScale/<stencils>   the built-in `pavilion` (energy-density objective) with
 //                                  `count` = stencils and both edge lengths scaled by √(310/stencils)
@@ -21,7 +21,9 @@
 //                                  (docs/PERFORMANCE.md).
 //     Counters: stencils, sim_faces, base_faces, context_s (pattern context set-up), pattern_s,
 //     structure_s, structure_iterations, s_per_iteration (structural phase seconds per L-BFGS-B
-//     iteration), evaluations_per_iteration, equilibria, newton_per_equilibrium, peak_gib (the
+//     iteration), cpu_s_per_iteration (CPU seconds of every thread from the end of the pattern phase
+//     to the end of the design, the two designs' equilibria included, per iteration),
+//     evaluations_per_iteration, equilibria, newton_per_equilibrium, peak_gib (the
 //     process's resident high-water mark so far). Manual time: context + pattern + structure.
 //
 // peak_gib is VmHWM of the whole benchmark process: run one size per process for a clean figure.
@@ -87,12 +89,14 @@ void BM_Design_PavilionScale(benchmark::State& state) {
   options.pattern_iterations = 5;
   options.structure_iterations = 5;
   solvers::DesignResult r;
-  double context = 0;
+  double context = 0, cpu_structure_start = 0, cpu_end = 0;
+  options.pattern_done = [&](const PatternPhaseResult&) { cpu_structure_start = bench::process_cpu_total(); };
   for (auto _ : state) {
     Stopwatch sw;
     auto ctx = std::make_unique<PatternContext>(scene, meshes);
     context = sw.seconds();
     r = solvers::run_design(scene, meshes, lc, *ctx, options);
+    cpu_end = bench::process_cpu_total();
     state.SetIterationTime(context + r.pattern.seconds + (r.structure ? r.structure->seconds : 0.0));
   }
   state.counters["stencils"] = r.pattern_design.stencils;
@@ -106,6 +110,7 @@ void BM_Design_PavilionScale(benchmark::State& state) {
     state.counters["structure_iterations"] = s.iterations;
     if (s.iterations > 0) {
       state.counters["s_per_iteration"] = s.seconds / s.iterations;
+      state.counters["cpu_s_per_iteration"] = (cpu_end - cpu_structure_start) / s.iterations;
       state.counters["evaluations_per_iteration"] = double(s.evaluations) / s.iterations;
     }
   }

@@ -5,6 +5,8 @@
 ///                                h = 2 mm) simulated on its base mesh of about `faces` near-equilateral
 ///                                triangles, with the given bending model. Cached per (faces, bending),
 ///                                so every benchmark of one run sees the same model.
+///   process_cpu_seconds()        user and system CPU seconds of the whole process so far (every
+///                                thread of every pool): the figure to trust on a shared machine.
 ///   peak_memory_gib()            VmHWM of /proc/self/status (GiB): the resident-set high-water mark of
 ///                                the whole process so far (monotone: run sizes in increasing order).
 #include <cmath>
@@ -13,6 +15,8 @@
 #include <memory>
 #include <string>
 #include <utility>
+
+#include <sys/resource.h>
 
 #include "host/scene/scene.h"
 #include "solvers/shell/shell_model.h"
@@ -32,6 +36,19 @@ inline const solvers::ShellModel& sheet_model(int faces, BendingModel bending = 
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
   slot = std::make_unique<solvers::ShellModel>(meshes.sim, scene.material, lc, scene.mechanics);
   return *slot;
+}
+
+inline std::pair<double, double> process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return {double(u.ru_utime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec),
+          double(u.ru_stime.tv_sec) + 1e-6 * double(u.ru_stime.tv_usec)};
+}
+
+/// User + system: total CPU seconds of the process so far.
+inline double process_cpu_total() {
+  const auto [user, sys] = process_cpu_seconds();
+  return user + sys;
 }
 
 inline double peak_memory_gib() {
