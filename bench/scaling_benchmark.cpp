@@ -12,13 +12,13 @@
 //     --benchmark_filter='Sheet/2000/' etc.
 //
 //   BM_Design_PavilionScale/<stencils>   the built-in `pavilion` (energy-density objective) with
-//                                  `count` = stencils and both edge lengths scaled by √(310/stencils)
-//                                  (the scene's own 310 stencils on its 0.22 m / 0.35 m meshes), so
-//                                  that stencils per simulation triangle stay the scene's; 5 L-BFGS-B
-//                                  iterations per phase. Default sizes 1e3 and 1e4 stencils (about 1e4
-//                                  and 1e5 simulation triangles); 1e5 (about 1e6 triangles) only with
-//                                  CUTWORK_BENCH_LARGE=1 — it does not fit a 24 GB, 10-minute budget
-//                                  (docs/PERFORMANCE.md).
+//                                  `count` = stencils and both edge lengths scaled together so that
+//                                  the simulation mesh has about 10 triangles per stencil (issue 12's
+//                                  pavilion: 9,880 stencils on 92,256; the scene itself has 2.3), the
+//                                  base mesh 2.5 times as many; 5 L-BFGS-B iterations per phase.
+//                                  Default sizes 1e3 and 1e4 stencils (about 1e4 and 1e5 simulation
+//                                  triangles); 1e5 (about 1e6 triangles) only with CUTWORK_BENCH_LARGE=1
+//                                  — it does not fit a 24 GB, 10-minute budget (docs/PERFORMANCE.md).
 //     Counters: stencils, sim_faces, base_faces, context_s (pattern context set-up), pattern_s,
 //     structure_s, structure_iterations, s_per_iteration (structural phase seconds per L-BFGS-B
 //     iteration), cpu_s_per_iteration (CPU seconds of every thread from the end of the pattern phase
@@ -79,7 +79,10 @@ BENCHMARK(BM_Equilibrium_Sheet)->Arg(2000)->Arg(20000)->Arg(200000)->Unit(benchm
 void BM_Design_PavilionScale(benchmark::State& state) {
   const int stencils = int(state.range(0));
   Scene scene = load_scene("pavilion");
-  const double shrink = std::sqrt(double(scene.pattern.count) / stencils);
+  // Ten simulation triangles per stencil: edge lengths shrink by √(F0 / (10 stencils)), F0 the
+  // scene's own simulation faces.
+  const double default_faces = build_scene_meshes(scene).sim.num_faces();
+  const double shrink = std::sqrt(default_faces / (10.0 * stencils));
   scene.pattern.count = stencils;
   scene.mesh.edge_length *= shrink;
   scene.mesh.sim_edge_length *= shrink;
