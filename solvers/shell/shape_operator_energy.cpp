@@ -180,16 +180,21 @@ namespace {
 
 /// What energy, gradient and Hessian share: the deformed face's unit normal n and |m̂| = r
 /// (m̂ = (x1 − x0) × (x2 − x0)), q (column j: Σ_a Q(j, a) x_a = Σ_a Q(j, a) (x_a − x0)), the second
-/// fundamental form b = qᵀ n, and the face edges ε_a = x(a+2) − x(a+1).
+/// fundamental form b = qᵀ n, and (derivatives only: set by with_edges) the face edges
+/// ε_a = x(a+2) − x(a+1).
 struct DeformedPatch {
   Vec3 n;
   double r = 0;
   Eigen::Matrix3d q;
   Vec3 b;
   std::array<Vec3, 3> eps;
+
+  void with_edges(const Vec18& x) {
+    for (int a = 0; a < 3; ++a) eps[a] = x.segment<3>(3 * ((a + 2) % 3)) - x.segment<3>(3 * ((a + 1) % 3));
+  }
 };
 
-DeformedPatch deformed_patch(const Vec18& x, const Mat3x6& Q) {
+[[gnu::always_inline]] inline DeformedPatch deformed_patch(const Vec18& x, const Mat3x6& Q) {
   DeformedPatch p;
   const Vec3 x0 = x.segment<3>(0);
   const Vec3 normal_raw = (x.segment<3>(3) - x0).cross(x.segment<3>(6) - x0);
@@ -198,7 +203,6 @@ DeformedPatch deformed_patch(const Vec18& x, const Mat3x6& Q) {
   p.q.setZero();
   for (int a = 1; a < 6; ++a) p.q.noalias() += (x.segment<3>(3 * a) - x0) * Q.col(a).transpose();
   p.b = p.q.transpose() * p.n;
-  for (int a = 0; a < 3; ++a) p.eps[a] = x.segment<3>(3 * ((a + 2) % 3)) - x.segment<3>(3 * ((a + 1) % 3));
   return p;
 }
 
@@ -273,12 +277,14 @@ void shape_operator_energy_gradient_hessian(const Vec18& x_in, const ShapeOperat
                                             const Eigen::Matrix3d& C, double scale, double* energy,
                                             Vec18* gradient, Mat18* hessian) {
   const Mat3x6& Q = rest.weights;
-  const DeformedPatch p = deformed_patch(patch_positions(x_in, rest), Q);
+  const Vec18 x = patch_positions(x_in, rest);
+  DeformedPatch p = deformed_patch(x, Q);
   const Vec3 k = p.b - rest.rest_curvature;
   const Vec3 mu = C * k;
   const double w = scale * rest.area;
   if (energy) *energy = 0.5 * w * k.dot(mu);
   if (!gradient && !hessian) return;
+  p.with_edges(x);
 
   const Eigen::Matrix<double, 6, 1> c = Q.transpose() * mu;  // c_a = Σ_j μ_j Q(j, a)
   if (gradient) {
