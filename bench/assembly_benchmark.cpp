@@ -9,7 +9,8 @@
 //   BM_Assembly_Shell/<faces>/<need>/<threads>
 //                                       the whole shell (membranes + shape-operator bends) as the
 //                                       solvers call it: shell_energy (need 0) or assemble_shell without
-//                                       (1) and with (2) the Hessian, in a task_arena of <threads>.
+//                                       (1) and with (2) the Hessian, in a task_arena of <threads>;
+//                                       counters nonzeros, element_colours and chunk_colours.
 // need: 0 energy only (the line search), 1 energy + gradient, 2 energy + gradient + Hessian.
 // Counter elements/s: elements evaluated per CPU second — of the benchmark thread for the serial
 // kinds, of the whole process (every TBB worker) for BM_Assembly_Shell. On a shared machine these
@@ -106,6 +107,9 @@ void BM_Assembly_Shell(benchmark::State& state) {
   }
   set_counters(state, model, double(model.num_elements()));
   state.counters["threads"] = double(state.range(2));
+  state.counters["nonzeros"] = double(model.assembly().num_nonzeros());
+  state.counters["element_colours"] = double(model.assembly().colours().size());
+  state.counters["chunk_colours"] = double(model.assembly().chunk_colours().size());
 }
 
 void kind_args(benchmark::internal::Benchmark* b) {

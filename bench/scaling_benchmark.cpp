@@ -23,8 +23,8 @@
 //     structure_s, structure_iterations, s_per_iteration (structural phase seconds per L-BFGS-B
 //     iteration), cpu_s_per_iteration (CPU seconds of every thread from the end of the pattern phase
 //     to the end of the design, the two designs' equilibria included, per iteration),
-//     evaluations_per_iteration, equilibria, newton_per_equilibrium, peak_gib (the
-//     process's resident high-water mark so far). Manual time: context + pattern + structure.
+//     evaluations_per_iteration, equilibria, newton_per_equilibrium, factor_nonzeros and gflop (one
+//     factorisation of the uncut shell), peak_gib (the process's resident high-water mark so far). Manual time: context + pattern + structure.
 //
 // peak_gib is VmHWM of the whole benchmark process: run one size per process for a clean figure.
 #include <benchmark/benchmark.h>
@@ -120,6 +120,12 @@ void BM_Design_PavilionScale(benchmark::State& state) {
   state.counters["equilibria"] = r.stage_times.equilibria;
   if (r.stage_times.equilibria > 0)
     state.counters["newton_per_equilibrium"] = double(r.stage_times.newton_iterations) / r.stage_times.equilibria;
+  // The uncut shell's factor, as every equilibrium of the design factorises it (analysed once more
+  // here, after the timing).
+  const solvers::ShellModel model(meshes.sim, scene.material, lc, scene.mechanics);
+  const solvers::EquilibriumSolver solver(model);
+  state.counters["factor_nonzeros"] = double(solver.linear_solver().factor_nonzeros());
+  state.counters["gflop"] = solver.linear_solver().factorization_flops() * 1e-9;
   state.counters["peak_gib"] = bench::peak_memory_gib();
 }
 
