@@ -3,8 +3,9 @@
 /// six nodes, with everything that depends on topology alone built once:
 ///   - the upper-triangular CSC pattern (what CHOLMOD's symmetric stype = 1 mode reads),
 ///   - per element, the value slot of each of its 3×3 blocks (the element→slot scatter map),
-///   - a colouring of the elements such that no two elements of one colour share a node.
-/// Refilling values is then a loop over colours with a parallel loop over each colour's elements,
+///   - a colouring of the elements such that no two elements of one colour share a node, and one of
+///     chunks of consecutive elements (chunk_colours(), what the shell assembly uses: locality).
+/// Refilling values is then a loop over colours with a parallel loop over each colour's chunks,
 /// each scattering straight into the value array: no races, no triplets, no sort, and the sum in
 /// every slot is taken in the same order whatever the number of threads (bitwise reproducible).
 ///
