@@ -7,13 +7,13 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
-#include <sys/resource.h>
 #include <tbb/task_arena.h>
 #include <string>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include "bench/scene_models.h"
 #include "bench/shell_bench_model.h"
 #include "host/core/timer.h"
 #include "solvers/linear/cholmod_solver.h"
@@ -116,14 +116,6 @@ void BM_Solve_Cholmod(benchmark::State& state) {
 }
 BENCHMARK(BM_Solve_Cholmod)->Apply(sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-/// User and system CPU seconds of the whole process so far (every thread of every pool).
-std::pair<double, double> process_cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return {double(u.ru_utime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec),
-          double(u.ru_stime.tv_sec) + 1e-6 * double(u.ru_stime.tv_usec)};
-}
-
 /// The sheet-like sizes of the scaling table (≈ 2e3 / 2e4 / 2e5 faces: 3e3 / 3e4 / 3e5 DOFs).
 void scaling_sizes(benchmark::internal::Benchmark* b, const std::vector<int>& second) {
   for (int dofs : {3000, 30000, 300000})
@@ -170,13 +162,13 @@ void BM_Factorize_Threads(benchmark::State& state) {
   chol.analyze(m.pattern->num_dofs(), m.pattern->column_starts(), m.pattern->row_indices());
   const double saved = parallel_factor_flops();
   set_parallel_factor_flops(threads > 1 ? 0.0 : std::numeric_limits<double>::infinity());
-  const auto [user0, sys0] = process_cpu_seconds();
+  const auto [user0, sys0] = bench::process_cpu_seconds();
   for (auto _ : state) {
     arena.execute([&] {
       if (!chol.factorize(m.values.data())) state.SkipWithError("not positive definite");
     });
   }
-  const auto [user1, sys1] = process_cpu_seconds();
+  const auto [user1, sys1] = bench::process_cpu_seconds();
   set_parallel_factor_flops(saved);
   state.counters["dofs"] = m.pattern->num_dofs();
   state.counters["gflop"] = chol.factorization_flops() * 1e-9;

@@ -61,11 +61,15 @@ BlockAssembly::BlockAssembly(int num_nodes, const std::vector<ElementNodes>& ele
     }
   }
 
+  colour_elements();
+  colour_chunks();
+}
+
+void BlockAssembly::colour_elements() {
   // Colouring by passes: each pass takes, in index order, every uncoloured element whose nodes are
   // untouched in this pass. Deterministic, and the colour count stays near the largest number of
   // elements that share a node.
-  std::vector<int> colour(m_nodes.size(), -1);
-  std::vector<int> node_pass(num_nodes, -1);
+  std::vector<int> node_pass(m_num_nodes, -1);
   std::vector<int> pending;
   for (std::size_t e = 0; e < m_nodes.size(); ++e) {
     bool has_dof = false;
@@ -88,6 +92,33 @@ BlockAssembly::BlockAssembly(int num_nodes, const std::vector<ElementNodes>& ele
       members.push_back(e);
     }
     m_colours.push_back(std::move(members));
+    pending.swap(rest);
+  }
+}
+
+void BlockAssembly::colour_chunks() {
+  // The same passes over chunks: a chunk joins the pass when none of its nodes is taken in it.
+  const int ne = num_elements();
+  std::vector<Chunk> pending;
+  for (int begin = 0; begin < ne; begin += kChunkElements) pending.push_back({begin, std::min(ne, begin + kChunkElements)});
+  std::vector<int> node_pass(m_num_nodes, -1);
+  for (int pass = 0; !pending.empty(); ++pass) {
+    std::vector<Chunk> members, rest;
+    for (const Chunk& c : pending) {
+      bool free = true;
+      for (int e = c.begin; e < c.end && free; ++e)
+        for (int n : m_nodes[e])
+          if (n >= 0 && node_pass[n] == pass) free = false;
+      if (!free) {
+        rest.push_back(c);
+        continue;
+      }
+      for (int e = c.begin; e < c.end; ++e)
+        for (int n : m_nodes[e])
+          if (n >= 0) node_pass[n] = pass;
+      members.push_back(c);
+    }
+    m_chunk_colours.push_back(std::move(members));
     pending.swap(rest);
   }
 }

@@ -3,8 +3,9 @@
 /// six nodes, with everything that depends on topology alone built once:
 ///   - the upper-triangular CSC pattern (what CHOLMOD's symmetric stype = 1 mode reads),
 ///   - per element, the value slot of each of its 3×3 blocks (the element→slot scatter map),
-///   - a colouring of the elements such that no two elements of one colour share a node.
-/// Refilling values is then a loop over colours with a parallel loop over each colour's elements,
+///   - a colouring of the elements such that no two elements of one colour share a node, and one of
+///     chunks of consecutive elements (chunk_colours(), what the shell assembly uses: locality).
+/// Refilling values is then a loop over colours with a parallel loop over each colour's chunks,
 /// each scattering straight into the value array: no races, no triplets, no sort, and the sum in
 /// every slot is taken in the same order whatever the number of threads (bitwise reproducible).
 ///
@@ -54,6 +55,19 @@ class BlockAssembly {
   /// Elements without any DOF (they add energy but nothing to the matrix or the gradient).
   const std::vector<int>& uncoloured() const { return m_uncoloured; }
 
+  /// A run of consecutive elements [begin, end) (kChunkElements of them, fewer at the end).
+  struct Chunk {
+    int begin = 0, end = 0;
+  };
+  static constexpr int kChunkElements = 64;
+  /// Every element, cut into chunks of consecutive indices and the chunks grouped by colour: no
+  /// two chunks of one colour share a node. What the assembly loops over: one colour at a time,
+  /// its chunks in parallel, each chunk's elements in index order. Consecutive elements of a mesh
+  /// touch nearby nodes, so a chunk's scatters stay in a few cached columns, where a colour of
+  /// single elements is spread over the whole matrix (every colour would stream through all of it).
+  /// The order of the contributions to every slot is fixed by the chunks, whatever the thread count.
+  const std::vector<std::vector<Chunk>>& chunk_colours() const { return m_chunk_colours; }
+
   /// Adds the local matrix of element e (3K×3K in the element's local DOF order, symmetric; only its
   /// blocks that land in the upper triangle are read) into values (nnz).
   template <int K>
@@ -97,6 +111,10 @@ class BlockAssembly {
   std::vector<int> m_row_indices;
   std::vector<std::vector<int>> m_colours;
   std::vector<int> m_uncoloured;
+  std::vector<std::vector<Chunk>> m_chunk_colours;
+
+  void colour_elements();
+  void colour_chunks();
 };
 
 }  // namespace cutwork::solvers

@@ -68,17 +68,19 @@ void membrane_energy_gradient_hessian(const Vec9& x, const MembraneRest& rest, d
   if (!hessian) return;
 
   // H_(a,c),(b,d) = αA [ δ_cd β_bᵀ S β_a + (F dS β_a)_c ],  dS = 2μ dE + λ tr(dE) I,
-  // dE = ½(β_b f_dᵀ + f_d β_bᵀ), f_d = Fᵀ e_d  (row d of F).
-  for (int b = 0; b < 3; ++b) {
-    for (int d = 0; d < 3; ++d) {
-      const Eigen::Vector2d f_d = F.row(d).transpose();
-      const Eigen::Matrix2d dE = 0.5 * (beta[b] * f_d.transpose() + f_d * beta[b].transpose());
-      const Eigen::Matrix2d dS = 2.0 * mu * dE + lambda * dE.trace() * Eigen::Matrix2d::Identity();
-      for (int a = 0; a < 3; ++a) {
-        Vec3 column = F * (dS * beta[a]);
-        column[d] += beta[b].dot(S * beta[a]);
-        hessian->block<3, 1>(3 * a, 3 * b + d) = scale * column;
-      }
+  // dE = ½(β_b f_dᵀ + f_d β_bᵀ), f_d = Fᵀ e_d (row d of F). With u_a = F β_a this is, block by block,
+  //   H_ab = αA [ (β_aᵀ S β_b) I + μ u_b u_aᵀ + μ (β_a·β_b) F Fᵀ + λ u_a u_bᵀ ]   (H_ba = H_abᵀ).
+  const Eigen::Matrix3d FFt = F * F.transpose();
+  Vec3 u[3];
+  for (int a = 0; a < 3; ++a) u[a] = F * beta[a];
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      Eigen::Matrix3d blk = (mu * beta[a].dot(beta[b])) * FFt;
+      blk.noalias() += mu * u[b] * u[a].transpose();
+      blk.noalias() += lambda * u[a] * u[b].transpose();
+      blk.diagonal().array() += beta[a].dot(S * beta[b]);
+      hessian->block<3, 3>(3 * a, 3 * b) = scale * blk;
+      if (b != a) hessian->block<3, 3>(3 * b, 3 * a) = scale * blk.transpose();
     }
   }
 }

@@ -176,13 +176,96 @@ void fold_ghosts(const ShapeOperatorRest& rest, Vec18* gradient, Mat18* hessian)
 
 }  // namespace
 
+namespace {
+
+/// What energy, gradient and Hessian share: the deformed face's unit normal n and |m̂| = r
+/// (m̂ = (x1 − x0) × (x2 − x0)), q (column j: Σ_a Q(j, a) x_a = Σ_a Q(j, a) (x_a − x0)), the second
+/// fundamental form b = qᵀ n, and (derivatives only: set by with_edges) the face edges
+/// ε_a = x(a+2) − x(a+1).
+struct DeformedPatch {
+  Vec3 n;
+  double r = 0;
+  Eigen::Matrix3d q;
+  Vec3 b;
+  std::array<Vec3, 3> eps;
+
+  void with_edges(const Vec18& x) {
+    for (int a = 0; a < 3; ++a) eps[a] = x.segment<3>(3 * ((a + 2) % 3)) - x.segment<3>(3 * ((a + 1) % 3));
+  }
+};
+
+[[gnu::always_inline]] inline DeformedPatch deformed_patch(const Vec18& x, const Mat3x6& Q) {
+  DeformedPatch p;
+  const Vec3 x0 = x.segment<3>(0);
+  const Vec3 normal_raw = (x.segment<3>(3) - x0).cross(x.segment<3>(6) - x0);
+  p.r = normal_raw.norm();
+  p.n = normal_raw / p.r;
+  p.q.setZero();
+  for (int a = 1; a < 6; ++a) p.q.noalias() += (x.segment<3>(3 * a) - x0) * Q.col(a).transpose();
+  p.b = p.q.transpose() * p.n;
+  return p;
+}
+
+/// w·∂²(½ kᵀ C k)/∂x², exactly symmetric, written block by block: with μ = C k, c = Qᵀ μ, v = q μ,
+///   ∂n/∂x_a = P_n [ε_a]× / r = ([ε_a]× − n β_aᵀ) / r,  β_a = n × ε_a   (face vertices a < 3; 0 else),
+///   J_a = ∂k/∂x_a = Q_a nᵀ + qᵀ ∂n/∂x_a,
+///   H_ab = J_aᵀ C J_b + c_a ∂n/∂x_b + c_b (∂n/∂x_a)ᵀ + [a, b < 3] (∂²(v·n)/∂x_a∂x_b at fixed v).
+/// Across the patch J_b = Q_b nᵀ for b ≥ 3, so those blocks are rank one: (J_aᵀ C Q_b) nᵀ and
+/// (Q_aᵀ C Q_b) n nᵀ. The last term: ∇_m̂(v·n) = g = P_n v / r, ∇²_m̂ = −(v nᵀ + n vᵀ + (v·n)(I − 3 n nᵀ)) / r²
+/// through ∂m̂/∂x_a = [ε_a]×, whose products with [ε]× reduce to the outer products of
+/// α_a = v × ε_a and β_a ([ε_a]×ᵀ[ε_b]× = (ε_a·ε_b) I − ε_b ε_aᵀ), plus the bilinear part of m̂:
+/// −[g]× in block (a, a+1), +[g]× in block (a+1, a).
+void hessian_blocks(const DeformedPatch& p, const Mat3x6& Q, const Eigen::Matrix3d& C, const Vec3& mu,
+                    const Eigen::Matrix<double, 6, 1>& c, double w, Mat18& H) {
+  const Vec3& n = p.n;
+  const double ir = 1.0 / p.r;
+  const Vec3 v = p.q * mu;
+  const Vec3 g = (v - n * n.dot(v)) * ir;
+  const double vn = v.dot(n);
+  const Eigen::Matrix3d G = cross_matrix(g);
+  const Mat3x6 CQ = C * Q;
+  std::array<Vec3, 3> alpha, beta;
+  std::array<Eigen::Matrix3d, 3> dn, J;
+  for (int a = 0; a < 3; ++a) {
+    alpha[a] = v.cross(p.eps[a]);
+    beta[a] = n.cross(p.eps[a]);
+    dn[a] = (cross_matrix(p.eps[a]) - n * beta[a].transpose()) * ir;
+    J[a].noalias() = Q.col(a) * n.transpose();
+    J[a].noalias() += p.q.transpose() * dn[a];
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      Eigen::Matrix3d blk;
+      blk.noalias() = J[a].transpose() * (C * J[b]);
+      blk += c[a] * dn[b] + c[b] * dn[a].transpose();
+      blk -= ir * ir *
+             (alpha[a] * beta[b].transpose() + beta[a] * alpha[b].transpose() +
+              vn * (p.eps[a].dot(p.eps[b]) * Eigen::Matrix3d::Identity() - p.eps[b] * p.eps[a].transpose() -
+                    3.0 * beta[a] * beta[b].transpose()));
+      if (b == (a + 1) % 3) blk -= G;
+      if (a == (b + 1) % 3) blk += G;
+      H.block<3, 3>(3 * a, 3 * b) = w * blk;
+    }
+    for (int b = 3; b < 6; ++b)
+      H.block<3, 3>(3 * a, 3 * b) = w * ((J[a].transpose() * CQ.col(b)) * n.transpose() + c[b] * dn[a].transpose());
+  }
+  const Eigen::Matrix3d nn = n * n.transpose();
+  for (int a = 3; a < 6; ++a)
+    for (int b = a; b < 6; ++b) H.block<3, 3>(3 * a, 3 * b) = (w * Q.col(a).dot(CQ.col(b))) * nn;
+  // Lower blocks mirror the upper ones; diagonal blocks are symmetrised (their two halves are
+  // computed in different orders).
+  for (int a = 0; a < 6; ++a) {
+    const Eigen::Matrix3d d = H.block<3, 3>(3 * a, 3 * a);
+    H.block<3, 3>(3 * a, 3 * a) = 0.5 * (d + d.transpose());
+    for (int b = a + 1; b < 6; ++b) H.block<3, 3>(3 * b, 3 * a) = H.block<3, 3>(3 * a, 3 * b).transpose();
+  }
+}
+
+}  // namespace
+
 Vec3 shape_operator_strain(const Vec18& x_in, const ShapeOperatorRest& rest) {
-  const Vec18 x = patch_positions(x_in, rest);
-  const Vec3 x0 = x.segment<3>(0), x1 = x.segment<3>(3), x2 = x.segment<3>(6);
-  const Vec3 n = (x1 - x0).cross(x2 - x0).normalized();
-  Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
-  for (int a = 1; a < 6; ++a) q += (x.segment<3>(3 * a) - x0) * rest.weights.col(a).transpose();
-  return q.transpose() * n - rest.rest_curvature;
+  const DeformedPatch p = deformed_patch(patch_positions(x_in, rest), rest.weights);
+  return p.b - rest.rest_curvature;
 }
 
 double shape_operator_energy(const Vec18& x, const ShapeOperatorRest& rest, const Eigen::Matrix3d& C, double scale) {
@@ -193,84 +276,36 @@ double shape_operator_energy(const Vec18& x, const ShapeOperatorRest& rest, cons
 void shape_operator_energy_gradient_hessian(const Vec18& x_in, const ShapeOperatorRest& rest,
                                             const Eigen::Matrix3d& C, double scale, double* energy,
                                             Vec18* gradient, Mat18* hessian) {
-  const Vec18 x = patch_positions(x_in, rest);
   const Mat3x6& Q = rest.weights;
-  std::array<Vec3, 3> v;
-  for (int a = 0; a < 3; ++a) v[a] = x.segment<3>(3 * a);
-  const Vec3 normal_raw = (v[1] - v[0]).cross(v[2] - v[0]);
-  const double r = normal_raw.norm();
-  const Vec3 n = normal_raw / r;
-  Eigen::Matrix3d q = Eigen::Matrix3d::Zero();  // column j: Σ_a Q(j, a) x_a = Σ_a Q(j, a) (x_a − x0)
-  for (int a = 1; a < 6; ++a) q.noalias() += (x.segment<3>(3 * a) - v[0]) * Q.col(a).transpose();
-  const Vec3 k = q.transpose() * n - rest.rest_curvature;
-  const Vec3 m = C * k;
+  const Vec18 x = patch_positions(x_in, rest);
+  DeformedPatch p = deformed_patch(x, Q);
+  const Vec3 k = p.b - rest.rest_curvature;
+  const Vec3 mu = C * k;
   const double w = scale * rest.area;
-  if (energy) *energy = 0.5 * w * k.dot(m);
+  if (energy) *energy = 0.5 * w * k.dot(mu);
   if (!gradient && !hessian) return;
+  p.with_edges(x);
 
-  // ∂n/∂x_a = P_n [ε_a]× / r for the face vertices, ε_a = x(a+2) − x(a+1); zero for the others.
-  const Eigen::Matrix3d Pn = Eigen::Matrix3d::Identity() - n * n.transpose();
-  std::array<Eigen::Matrix3d, 3> dn;
-  std::array<Vec3, 3> eps;
-  for (int a = 0; a < 3; ++a) {
-    eps[a] = v[(a + 2) % 3] - v[(a + 1) % 3];
-    dn[a] = Pn * cross_matrix(eps[a]) / r;
-  }
-  const Eigen::Matrix<double, 6, 1> c = Q.transpose() * m;  // c_a = Σ_r m_r Q(r, a)
-  const Vec3 vsum = q * m;                                   // Σ_r m_r q_r
-
+  const Eigen::Matrix<double, 6, 1> c = Q.transpose() * mu;  // c_a = Σ_j μ_j Q(j, a)
   if (gradient) {
+    // ∂k_j/∂x_a = Q(j, a) n + [a < 3] (∂n/∂x_a)ᵀ q_j, and (∂n/∂x_a)ᵀ v = g × ε_a.
+    const Vec3 v = p.q * mu;
+    const Vec3 g = (v - p.n * p.n.dot(v)) / p.r;
     for (int a = 0; a < 6; ++a) {
-      Vec3 g = c[a] * n;
-      if (a < 3) g += dn[a].transpose() * vsum;
-      gradient->segment<3>(3 * a) = w * g;
+      Vec3 ga = c[a] * p.n;
+      if (a < 3) ga += g.cross(p.eps[a]);
+      gradient->segment<3>(3 * a) = w * ga;
     }
   }
   if (!hessian) {
     fold_ghosts(rest, gradient, nullptr);
     return;
   }
-
-  // Jacobian of k (3×18): row j, block a = Q(j, a) nᵀ + [a < 3] q_jᵀ ∂n/∂x_a.
-  Eigen::Matrix<double, 3, 18> J;
-  for (int a = 0; a < 6; ++a) {
-    for (int j = 0; j < 3; ++j) {
-      Eigen::RowVector3d row = Q(j, a) * n.transpose();
-      if (a < 3) row += q.col(j).transpose() * dn[a];
-      J.block<1, 3>(j, 3 * a) = row;
-    }
-  }
-  Mat18& H = *hessian;
-  H.noalias() = J.transpose() * C * J;
-
-  // Σ_j m_j ∂²k_j: block (a, b) = c_a ∂n/∂x_b [b<3] + c_b (∂n/∂x_a)ᵀ [a<3] + [a,b<3] ∂²(vsum·n)/∂x_a∂x_b.
-  for (int a = 0; a < 6; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      if (c[a] != 0) H.block<3, 3>(3 * a, 3 * b) += c[a] * dn[b];
-      if (c[a] != 0) H.block<3, 3>(3 * b, 3 * a) += c[a] * dn[b].transpose();
-    }
-  }
-  // f = vsum·n(m̂), m̂ = (x1−x0)×(x2−x0): ∇_m f = P_n vsum / r,
-  // ∇²_m f = −(vsum nᵀ + n vsumᵀ + (vsum·n)(I − 3 n nᵀ)) / r², ∂m̂/∂x_a = [ε_a]×, and the bilinear part
-  // of m̂ = x0×x1 + x1×x2 + x2×x0 adds −[g]× to block (a, a+1) and +[g]× to block (a+1, a).
-  const Vec3 gm = Pn * vsum / r;
-  const double vn = vsum.dot(n);
-  const Eigen::Matrix3d Hm = -(vsum * n.transpose() + n * vsum.transpose() +
-                               vn * (Eigen::Matrix3d::Identity() - 3.0 * n * n.transpose())) / (r * r);
-  const Eigen::Matrix3d G = cross_matrix(gm);
-  std::array<Eigen::Matrix3d, 3> E;
-  for (int a = 0; a < 3; ++a) E[a] = cross_matrix(eps[a]);
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      Eigen::Matrix3d blk = E[a].transpose() * Hm * E[b];
-      if (b == (a + 1) % 3) blk -= G;
-      if (a == (b + 1) % 3) blk += G;
-      H.block<3, 3>(3 * a, 3 * b) += blk;
-    }
-  }
-  H *= w;
-  fold_ghosts(rest, gradient, &H);
-  H = 0.5 * (H + H.transpose()).eval();
+  hessian_blocks(p, Q, C, mu, c, w, *hessian);
+  const bool ghosts = rest.across[0] == PatchNode::Ghost || rest.across[1] == PatchNode::Ghost ||
+                      rest.across[2] == PatchNode::Ghost;
+  fold_ghosts(rest, gradient, hessian);
+  if (ghosts) *hessian = 0.5 * (*hessian + hessian->transpose()).eval();  // the fold sums in two orders
 }
 
 }  // namespace cutwork::solvers

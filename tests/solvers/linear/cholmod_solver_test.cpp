@@ -101,6 +101,38 @@ TEST(BlockAssembly, PatternScatterAndColouringMatchDenseTwin) {
   for (int s : seen) EXPECT_EQ(s, 1);
 }
 
+TEST(BlockAssembly, ChunkColoursCoverEveryElementOnceWithoutSharedNodes) {
+  std::mt19937 rng(3);
+  const int nodes = 400;
+  // Elements along a strip (nearby nodes, as a mesh's consecutive faces are), a few with no DOF.
+  std::vector<BlockAssembly::ElementNodes> elements;
+  for (int e = 0; e < 1000; ++e) {
+    BlockAssembly::ElementNodes en;
+    en.fill(-1);
+    for (int a = 0; a < 6; ++a) en[a] = e % 97 == 0 ? -1 : (e * nodes / 1000 + int(rng() % 12)) % nodes;
+    elements.push_back(en);
+  }
+  const BlockAssembly a(nodes, elements);
+  std::vector<int> seen(elements.size(), 0);
+  for (const auto& colour : a.chunk_colours()) {
+    std::vector<int> owner(nodes, -1);
+    for (std::size_t c = 0; c < colour.size(); ++c) {
+      EXPECT_LE(colour[c].end - colour[c].begin, BlockAssembly::kChunkElements);
+      for (int e = colour[c].begin; e < colour[c].end; ++e) {
+        ++seen[e];
+        for (int n : elements[e])
+          if (n >= 0) {
+            EXPECT_TRUE(owner[n] < 0 || owner[n] == int(c)) << "node " << n << " in two chunks of one colour";
+            owner[n] = int(c);
+          }
+      }
+    }
+  }
+  for (int s : seen) EXPECT_EQ(s, 1);
+  EXPECT_GT(a.chunk_colours().size(), 1u);
+  EXPECT_LT(a.chunk_colours().size(), 8u);  // a strip: each chunk meets only its neighbours
+}
+
 TEST(CholmodSolver, FactorizesAndSolvesLikeDenseCholesky) {
   std::mt19937 rng(2);
   const int nodes = 60;
