@@ -63,7 +63,9 @@ void BM_Design(benchmark::State& state, const PaperRow& row) {
     solvers::DesignOptions o;
     o.pattern_iterations = budget;
     o.structure_iterations = budget;
-    o.pattern_done = [&](const PatternPhaseResult&) { cpu_structure_start = bench::process_cpu_total(); };
+    o.checkpoint = [&](const solvers::DesignSnapshot& snapshot) {
+      if (snapshot.stage == solvers::DesignStage::PatternEnd) cpu_structure_start = bench::process_cpu_total();
+    };
     r = solvers::run_design(scene, meshes, lc, *ctx, o);
     cpu_end = bench::process_cpu_total();
     const double structure = r.structure ? r.structure->seconds : 0.0;

@@ -94,7 +94,9 @@ void BM_Design_PavilionScale(benchmark::State& state) {
   options.structure_iterations = 5;
   solvers::DesignResult r;
   double context = 0, cpu_structure_start = 0, cpu_end = 0;
-  options.pattern_done = [&](const PatternPhaseResult&) { cpu_structure_start = bench::process_cpu_total(); };
+  options.checkpoint = [&](const solvers::DesignSnapshot& snapshot) {
+    if (snapshot.stage == solvers::DesignStage::PatternEnd) cpu_structure_start = bench::process_cpu_total();
+  };
   for (auto _ : state) {
     Stopwatch sw;
     auto ctx = std::make_unique<PatternContext>(scene, meshes);

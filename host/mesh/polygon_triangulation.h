@@ -13,7 +13,7 @@ namespace cutwork {
 /// triangles of its own corners (local indices into `corners`), each oriented like the polygon.
 /// Convex and concave simple polygons alike (CGAL's constrained Delaunay triangulation in the
 /// polygon's plane). Empty when CGAL cannot triangulate it (fewer than 3 corners, a repeated
-/// corner); a self-intersecting polygon gives triangles the caller's orientation check rejects.
+/// corner, two corners at one position); a self-intersecting polygon gives triangles the caller's orientation check rejects.
 std::vector<std::array<int, 3>> triangulate_polygon(std::span<const Vec3> corners);
 
 }  // namespace cutwork

@@ -14,6 +14,7 @@
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
+#include "host/mesh/polygon_triangulation.h"
 #include "tests/host/mesh/mesh_fixtures.h"
 #include "tests/support/test_support.h"
 
@@ -135,6 +136,18 @@ TEST(ReadMesh, ConcavePolygonsAreTriangulatedInsideTheirOutline) {
   const SurfaceMesh arrow = read_mesh(meshes() / "concave_quad.obj");
   EXPECT_EQ(arrow.num_faces(), 2);
   EXPECT_NEAR(arrow.face_areas().sum(), 1.75, 1e-15);
+}
+
+TEST(TriangulatePolygon, RefusesTwoCornersAtOnePosition) {
+  // A concave outline through two distinct vertices at one position (a fuzzing finding: CGAL's
+  // face triangulation read freed memory on it) is refused; the same outline without the repeat
+  // is triangulated.
+  const std::vector<Vec3> repeated = {{0, 0, 0}, {3, 0, 0}, {3, 3, 0}, {2, 3, 0}, {2, 1, 0}, {2, 1, 0}, {1, 1, 0},
+                                      {1, 3, 0}, {0, 3, 0}};
+  EXPECT_TRUE(triangulate_polygon(repeated).empty());
+  std::vector<Vec3> simple = repeated;
+  simple.erase(simple.begin() + 5);
+  EXPECT_EQ(triangulate_polygon(simple).size(), simple.size() - 2);
 }
 
 TEST(ReadMesh, ObjSyntaxVariants) {
