@@ -1,7 +1,6 @@
 // The built-in scenes: the paper's examples (Fig. 4, Fig. 5, Figs. 1 and 6–9) made procedurally,
 // with Table 2's parameters. Their sizes follow Table 1 (#v, #v_sim of the same order).
 #include <algorithm>
-#include <ranges>
 #include <utility>
 
 #include "host/core/error.h"
@@ -100,8 +99,12 @@ const std::vector<Entry>& entries() {
 }  // namespace
 
 const std::vector<BuiltinScene>& builtin_scenes() {
-  static const auto infos = entries() | std::views::transform(&Entry::info);
-  static const std::vector<BuiltinScene> list(infos.begin(), infos.end());
+  // A plain loop: clang 14 (the fuzzing build) cannot compile libstdc++ 12's ranges.
+  static const std::vector<BuiltinScene> list = [] {
+    std::vector<BuiltinScene> infos;
+    for (const Entry& e : entries()) infos.push_back(e.info);
+    return infos;
+  }();
   return list;
 }
 

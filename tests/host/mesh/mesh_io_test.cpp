@@ -138,7 +138,7 @@ TEST(ReadMesh, ConcavePolygonsAreTriangulatedInsideTheirOutline) {
   EXPECT_NEAR(arrow.face_areas().sum(), 1.75, 1e-15);
 }
 
-TEST(TriangulatePolygon, RefusesTwoCornersAtOnePosition) {
+TEST(TriangulatePolygon, RefusesOutlinesThatAreNotSimple) {
   // A concave outline through two distinct vertices at one position (a fuzzing finding: CGAL's
   // face triangulation read freed memory on it) is refused; the same outline without the repeat
   // is triangulated.
@@ -148,6 +148,9 @@ TEST(TriangulatePolygon, RefusesTwoCornersAtOnePosition) {
   std::vector<Vec3> simple = repeated;
   simple.erase(simple.begin() + 5);
   EXPECT_EQ(triangulate_polygon(simple).size(), simple.size() - 2);
+  // A bow tie (edges crossing) and a spike folding back along its edge are refused as well.
+  EXPECT_TRUE(triangulate_polygon(std::vector<Vec3>{{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}}).empty());
+  EXPECT_TRUE(triangulate_polygon(std::vector<Vec3>{{0, 0, 0}, {2, 0, 0}, {1, 0, 0}, {1, 1, 0}}).empty());
 }
 
 TEST(ReadMesh, ObjSyntaxVariants) {
