@@ -39,7 +39,6 @@ MonotoneCurve::MonotoneCurve(std::vector<double> x, std::vector<double> y) : m_x
 }
 
 double MonotoneCurve::operator()(double alpha, double* slope) const {
-  const size_t n = m_x.size();
   if (alpha <= m_x.front() || alpha >= m_x.back()) {
     if (slope) *slope = 0;
     return alpha <= m_x.front() ? m_y.front() : m_y.back();
@@ -52,7 +51,6 @@ double MonotoneCurve::operator()(double alpha, double* slope) const {
     const double d00 = 6 * t2 - 6 * t, d10 = 3 * t2 - 4 * t + 1, d01 = -6 * t2 + 6 * t, d11 = 3 * t2 - 2 * t;
     *slope = (d00 * m_y[k] + d01 * m_y[k + 1]) / h + d10 * m_d[k] + d11 * m_d[k + 1];
   }
-  (void)n;
   return h00 * m_y[k] + h10 * h * m_d[k] + h01 * m_y[k + 1] + h11 * h * m_d[k + 1];
 }
 
