@@ -7,6 +7,7 @@
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
+#include "solvers/linear/large_pages.h"
 #include "solvers/linear/thread_policy.h"
 
 namespace cutwork::solvers {
@@ -31,9 +32,16 @@ std::string status_text(int status) {
 
 struct CholmodSolver::Impl {
   cholmod_common common;
-  cholmod_sparse matrix;             // header over pattern arrays below and caller-owned values
+  cholmod_sparse matrix;             // header over pattern arrays below (the analysis' input)
   std::vector<int> column_starts;
   std::vector<int> row_indices;
+  // tril(P A Pᵀ), the matrix CHOLMOD's supernodal numeric factorisation reads, kept for the
+  // life of the analysis: cholmod_factorize would build it afresh (and allocate it) every time.
+  cholmod_sparse permuted;
+  std::vector<int> permuted_starts;
+  std::vector<int> permuted_rows;
+  std::vector<double> permuted_values;
+  std::vector<int> to_permuted;      // entry k of A's upper triangle → its slot in permuted_values
   cholmod_factor* factor = nullptr;
   bool factor_valid = false;
   double shift = 0;
@@ -45,11 +53,13 @@ struct CholmodSolver::Impl {
   mutable cholmod_dense* e = nullptr;
 
   Impl() {
+    use_large_pages_for_cholmod();
     cholmod_start(&common);
     common.print = 0;               // never print; failures are reported through SolveError
     common.error_handler = nullptr;
     common.supernodal = CHOLMOD_SUPERNODAL;
     std::memset(&matrix, 0, sizeof(matrix));
+    std::memset(&permuted, 0, sizeof(permuted));
   }
   ~Impl() {
     release_factor();
@@ -62,10 +72,57 @@ struct CholmodSolver::Impl {
     if (e) cholmod_free_dense(&e, &common);
     factor_valid = false;
   }
+  void build_permuted_pattern();
   void check(const char* what) const {
     if (common.status < 0) throw SolveError(std::string("CHOLMOD ") + what + ": " + status_text(common.status));
   }
 };
+
+/// Pattern of tril(P A Pᵀ) from A's upper triangle and the factor's permutation (entry (i, j) of
+/// A lands at row max(p⁻¹i, p⁻¹j) of column min(p⁻¹i, p⁻¹j)); rows sorted within each column.
+void CholmodSolver::Impl::build_permuted_pattern() {
+  const int n = int(factor->n);
+  const int* perm = static_cast<const int*>(factor->Perm);
+  std::vector<int> inverse(std::size_t(n), 0);
+  for (int k = 0; k < n; ++k) inverse[std::size_t(perm[k])] = k;
+  const std::size_t nnz = row_indices.size();
+  std::vector<int> target_column(nnz), target_row(nnz);
+  permuted_starts.assign(std::size_t(n) + 1, 0);
+  for (int j = 0; j < n; ++j)
+    for (int k = column_starts[std::size_t(j)]; k < column_starts[std::size_t(j) + 1]; ++k) {
+      const int a = inverse[std::size_t(row_indices[std::size_t(k)])], b = inverse[std::size_t(j)];
+      target_column[std::size_t(k)] = std::min(a, b);
+      target_row[std::size_t(k)] = std::max(a, b);
+      ++permuted_starts[std::size_t(target_column[std::size_t(k)]) + 1];
+    }
+  for (int j = 0; j < n; ++j) permuted_starts[std::size_t(j) + 1] += permuted_starts[std::size_t(j)];
+  // Counting sort by row, then a stable placement by column: rows come out sorted per column.
+  std::vector<int> by_row(nnz), row_starts(std::size_t(n) + 1, 0);
+  for (std::size_t k = 0; k < nnz; ++k) ++row_starts[std::size_t(target_row[k]) + 1];
+  for (int i = 0; i < n; ++i) row_starts[std::size_t(i) + 1] += row_starts[std::size_t(i)];
+  for (std::size_t k = 0; k < nnz; ++k) by_row[std::size_t(row_starts[std::size_t(target_row[k])]++)] = int(k);
+  std::vector<int> next(permuted_starts.begin(), permuted_starts.end() - 1);
+  permuted_rows.assign(nnz, 0);
+  to_permuted.assign(nnz, 0);
+  for (const int k : by_row) {
+    const int slot = next[std::size_t(target_column[std::size_t(k)])]++;
+    permuted_rows[std::size_t(slot)] = target_row[std::size_t(k)];
+    to_permuted[std::size_t(k)] = slot;
+  }
+  permuted_values.assign(nnz, 0.0);
+  advise_large_pages(permuted_values.data(), nnz * sizeof(double));
+  permuted.nrow = permuted.ncol = std::size_t(n);
+  permuted.nzmax = nnz;
+  permuted.p = permuted_starts.data();
+  permuted.i = permuted_rows.data();
+  permuted.x = permuted_values.data();
+  permuted.stype = -1;  // lower triangle stored
+  permuted.itype = CHOLMOD_INT;
+  permuted.xtype = CHOLMOD_REAL;
+  permuted.dtype = CHOLMOD_DOUBLE;
+  permuted.sorted = 1;
+  permuted.packed = 1;
+}
 
 Ordering choose_ordering(int n) { return n < kMetisFromDofs ? Ordering::Amd : Ordering::Metis; }
 
@@ -108,21 +165,24 @@ void CholmodSolver::analyze(int n, const std::vector<int>& column_starts,
   s.factor = cholmod_analyze(&A, &s.common);
   s.check("analyze");
   if (!s.factor) throw SolveError("CHOLMOD analyze failed: " + status_text(s.common.status));
+  if (!s.factor->is_super) throw InternalError("CHOLMOD analyze: the factor is not supernodal");
   s.flops = s.common.fl;
+  s.build_permuted_pattern();
 }
 
 bool CholmodSolver::factorize(const double* values, double shift) {
   Impl& s = *m_impl;
   if (!s.factor) throw InternalError("CHOLMOD factorize called before analyze");
-  cholmod_sparse& A = s.matrix;
-  A.xtype = CHOLMOD_REAL;
-  A.x = const_cast<double*>(values);  // read only: CHOLMOD does not modify A
+  // What cholmod_factorize does for a supernodal factor, without its per-call permuted copy of A:
+  // the values go into the kept tril(P A Pᵀ) and the numeric factorisation reads that.
+  double* permuted = s.permuted_values.data();
+  const int* slot = s.to_permuted.data();
+  const std::size_t nnz = s.to_permuted.size();
+  for (std::size_t k = 0; k < nnz; ++k) permuted[slot[k]] = values[k];
   double beta[2] = {shift, 0.0};
   s.factor_valid = false;
   set_factorization_threads(s.flops);
-  const int ok = cholmod_factorize_p(&A, beta, nullptr, 0, s.factor, &s.common);
-  A.x = nullptr;
-  A.xtype = CHOLMOD_PATTERN;
+  const int ok = cholmod_super_numeric(&s.permuted, nullptr, beta, s.factor, &s.common);
   s.check("factorize");
   if (!ok) throw SolveError("CHOLMOD factorize failed: " + status_text(s.common.status));
   if (s.common.status == CHOLMOD_NOT_POSDEF || s.factor->minor < s.factor->n) return false;

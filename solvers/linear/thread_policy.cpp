@@ -39,6 +39,8 @@ std::atomic<int> g_blas_threads{0};
 std::atomic<double> g_parallel_flops{kParallelFactorFlops};
 /// The calling thread's last OpenMP max-active-levels (-1: never set on this thread).
 thread_local int t_omp_levels = -1;
+/// Regions the gate ran inline on this thread.
+thread_local long t_regions_inlined = 0;
 
 }  // namespace
 
@@ -76,5 +78,44 @@ FactorizationThreads set_factorization_threads(double flops) {
 }
 
 bool blas_threads_controllable() { return controls().openblas_set_num_threads != nullptr; }
+
+long openmp_regions_inlined() { return t_regions_inlined; }
+
+namespace {
+
+using ParallelEntry = void (*)(void (*)(void*), void*, unsigned, unsigned);
+
+/// libgomp's GOMP_parallel (null without an OpenMP runtime).
+ParallelEntry libgomp_parallel() {
+  static const ParallelEntry entry = [] {
+    void* f = dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0");
+    return reinterpret_cast<ParallelEntry>(f ? f : dlsym(RTLD_NEXT, "GOMP_parallel"));
+  }();
+  return entry;
+}
+
+}  // namespace
+
+}  // namespace cutwork::solvers
+
+/// The OpenMP gate (thread_policy.h). GCC compiles `#pragma omp parallel` into a call of this
+/// function with the region's body outlined into fn.
+extern "C" __attribute__((visibility("default"))) void GOMP_parallel(void (*fn)(void*), void* data,
+                                                                     unsigned num_threads, unsigned flags) {
+  using namespace cutwork::solvers;
+  const ParallelEntry forward = t_omp_levels == 0 ? nullptr : libgomp_parallel();
+  if (!forward) {
+    ++t_regions_inlined;
+    fn(data);
+    return;
+  }
+  forward(fn, data, num_threads, flags);
+}
+
+namespace cutwork::solvers {
+
+bool openmp_gate_installed() {
+  return dlsym(RTLD_DEFAULT, "GOMP_parallel") == reinterpret_cast<void*>(&GOMP_parallel);
+}
 
 }  // namespace cutwork::solvers

@@ -20,6 +20,14 @@
 ///     cores than that the team oversubscribes and spends its time in futex/spin waits. OpenMP
 ///     regions are therefore made inactive (max-active-levels 0) unless the budget covers the team
 ///     and the factorisation is large.
+///   - The OpenMP gate: an inactive region still costs libgomp a team of one, ended with futex
+///     wake-ups (two syscalls per region: 20,000 per factorisation of 30k DOFs, a quarter of its
+///     time; 185,000 in one design of the bowl). cutwork therefore defines GOMP_parallel, the one
+///     OpenMP entry point CHOLMOD imports; the executable's definition comes first in the dynamic
+///     linker's search order. On a thread where this policy made the regions inactive it runs the
+///     region's body directly — what libgomp's team of one computes, since outside a team
+///     omp_get_num_threads() is 1, omp_get_thread_num() 0, and orphaned worksharing and barriers
+///     are valid —; on every other thread it forwards to libgomp's.
 /// Both libraries are reached through dlsym, so a BLAS without OpenBLAS's API (the reference BLAS,
 /// BLIS) or a CHOLMOD built without OpenMP simply leaves that pool alone.
 ///
@@ -59,5 +67,11 @@ FactorizationThreads set_factorization_threads(double flops);
 
 /// Whether OpenBLAS's thread control was found in the process (false for other BLAS libraries).
 bool blas_threads_controllable();
+
+/// Whether OpenMP regions entered through GOMP_parallel reach cutwork's gate (false when the
+/// symbol is bound elsewhere, e.g. a program that does not export it).
+bool openmp_gate_installed();
+/// OpenMP regions the gate ran inline on the calling thread so far (the test's evidence).
+long openmp_regions_inlined();
 
 }  // namespace cutwork::solvers

@@ -6,6 +6,10 @@
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
+#include <Eigen/Dense>
+
+#include "solvers/linear/block_assembly.h"
+#include "solvers/linear/cholmod_solver.h"
 #include "solvers/linear/thread_policy.h"
 
 namespace cutwork::solvers {
@@ -60,7 +64,69 @@ TEST(ThreadPolicy, SettingsReachOpenBlasAndOpenMp) {
   }
   EXPECT_EQ(set_factorization_threads(0.5 * kParallelFactorFlops).blas, 1);
   EXPECT_EQ(blas_threads(), 1);
-  if (omp_levels) EXPECT_EQ(omp_levels(), 0) << "CHOLMOD's OpenMP regions are inactive";
+  if (omp_levels) {
+    EXPECT_EQ(omp_levels(), 0) << "CHOLMOD's OpenMP regions are inactive";
+  }
+}
+
+/// A 2-D grid Laplacian plus the identity, 3 DOFs per node, as BlockAssembly lays it out.
+struct GridSystem {
+  BlockAssembly assembly;
+  std::vector<double> values;
+  explicit GridSystem(int side) : assembly(side * side, edges(side)), values(std::size_t(assembly.num_nonzeros()), 0.0) {
+    Eigen::Matrix<double, 6, 6> local;
+    local << Eigen::Matrix3d::Identity(), -Eigen::Matrix3d::Identity(), -Eigen::Matrix3d::Identity(),
+        Eigen::Matrix3d::Identity();
+    for (int e = 0; e < int(edges(side).size()); ++e) assembly.scatter_matrix<2>(e, local, values.data());
+    for (int j = 0; j < assembly.num_dofs(); ++j) values[std::size_t(assembly.column_starts()[j + 1] - 1)] += 0.1;
+  }
+  static std::vector<BlockAssembly::ElementNodes> edges(int side) {
+    std::vector<BlockAssembly::ElementNodes> e;
+    for (int i = 0; i < side; ++i)
+      for (int j = 0; j < side; ++j) {
+        if (j + 1 < side) e.push_back(BlockAssembly::nodes({i * side + j, i * side + j + 1}));
+        if (i + 1 < side) e.push_back(BlockAssembly::nodes({i * side + j, (i + 1) * side + j}));
+      }
+    return e;
+  }
+};
+
+TEST(ThreadPolicy, OpenMpGateRunsInactiveRegionsInlineAndForwardsActiveOnes) {
+  // The executable exports GOMP_parallel and CHOLMOD's calls reach it (this fails when the symbol
+  // is not exported or libgomp's comes first).
+  ASSERT_TRUE(openmp_gate_installed());
+  const GridSystem grid(40);
+  const BlockAssembly& a = grid.assembly;
+  Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(a.num_dofs(), -1.0, 2.0), serial(a.num_dofs());
+  {
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    CholmodSolver chol;
+    chol.analyze(a.num_dofs(), a.column_starts(), a.row_indices());
+    const long before = openmp_regions_inlined();
+    ASSERT_TRUE(chol.factorize(grid.values.data()));
+    EXPECT_GT(openmp_regions_inlined(), before) << "CHOLMOD's regions ran inline, without a libgomp team";
+    chol.solve(b.data(), serial.data());
+  }
+  const auto omp_levels = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  if (!omp_levels) GTEST_SKIP() << "no OpenMP runtime: every region runs inline";
+  // A budget that covers CHOLMOD's team and a threshold of zero: the regions go to libgomp and
+  // the result is the serial one.
+  const double threshold = parallel_factor_flops();
+  set_parallel_factor_flops(0);
+  const tbb::global_control many(tbb::global_control::max_allowed_parallelism, 16);
+  tbb::task_arena arena(16);
+  arena.execute([&] {
+    CholmodSolver chol;
+    chol.analyze(a.num_dofs(), a.column_starts(), a.row_indices());
+    const long before = openmp_regions_inlined();
+    ASSERT_TRUE(chol.factorize(grid.values.data()));
+    EXPECT_EQ(openmp_regions_inlined(), before) << "active regions go to libgomp";
+    EXPECT_EQ(omp_levels(), 1);
+    Eigen::VectorXd x(a.num_dofs());
+    chol.solve(b.data(), x.data());
+    EXPECT_LE((x - serial).norm(), 1e-12 * serial.norm());
+  });
+  set_parallel_factor_flops(threshold);
 }
 
 }  // namespace
