@@ -9,8 +9,10 @@
 
 #include "host/cli/commands.h"
 #include "host/core/exit_status.h"
+#include "solvers/linear/thread_policy.h"
 
 int main(int argc, char** argv) {
+  cutwork::solvers::settle_library_threads();
   CLI::App app{
       "cutwork: thin shells with decorative stencils that stay structurally sound\n"
       "(Schumacher, Thomaszewski, Gross: Stenciling, SGP 2016)"};

@@ -79,6 +79,14 @@ FactorizationThreads set_factorization_threads(double flops) {
 
 bool blas_threads_controllable() { return controls().openblas_set_num_threads != nullptr; }
 
+void settle_library_threads() {
+  const Controls& c = controls();
+  if (!c.openblas_set_num_threads) return;
+  g_blas_threads.store(1);
+  c.openblas_set_num_threads(1);
+  if (c.blas_thread_shutdown) c.blas_thread_shutdown();
+}
+
 long openmp_regions_inlined() { return t_regions_inlined; }
 
 namespace {

@@ -68,6 +68,13 @@ FactorizationThreads set_factorization_threads(double flops);
 /// Whether OpenBLAS's thread control was found in the process (false for other BLAS libraries).
 bool blas_threads_controllable();
 
+/// Puts OpenBLAS in the serial setting before any factorisation: its library constructor starts a
+/// worker per core, and an idle worker spins on sched_yield for ~0.13 s (OpenBLAS' thread timeout,
+/// 2²⁸ cycles) before it sleeps — 28,000 syscalls at the start of every process, measured on
+/// `cutwork design bowl`. Programs call it first thing in main(); factorisations that earn the
+/// parallel setting start the workers again.
+void settle_library_threads();
+
 /// Whether OpenMP regions entered through GOMP_parallel reach cutwork's gate (false when the
 /// symbol is bound elsewhere, e.g. a program that does not export it).
 bool openmp_gate_installed();
