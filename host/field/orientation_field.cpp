@@ -250,10 +250,11 @@ RowMatX3d vertex_representatives(const SurfaceMesh& mesh, int N, const std::vect
       acc[size_t(v)] += mesh.face_areas()[f] *
                         std::polar(1.0, N * angle_in(d, ve1[size_t(v)], ve2[size_t(v)]));
     }
+  const double cancelled = 1e-12 * (F > 0 ? mesh.face_areas().maxCoeff() : 0.0);
   for (int v = 0; v < nv; ++v) {
     if (first_face[size_t(v)] < 0) continue;  // unreferenced vertex
     double th;
-    if (std::abs(acc[size_t(v)]) > 1e-12 * mesh.face_areas().maxCoeff())
+    if (std::abs(acc[size_t(v)]) > cancelled)
       th = std::arg(acc[size_t(v)]) / N;
     else
       th = angle_in(face_dirs.row(first_face[size_t(v)]).transpose(), ve1[size_t(v)], ve2[size_t(v)]);
