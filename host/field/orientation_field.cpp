@@ -7,11 +7,12 @@
 #include <complex>
 #include <numeric>
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <fmt/format.h>
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
+#include "solvers/linear/cholmod_solver.h"
 
 namespace cutwork {
 
@@ -207,15 +208,23 @@ std::vector<Complex> solve_smoothness(const SurfaceMesh& mesh, const Orientation
   }
   Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * nvar);
   if (nvar > 0) {
+    // CHOLMOD's supernodal factorisation of the upper triangle (rows sorted within columns, as
+    // Eigen compresses them) under the process's thread policy: 2 unknowns per face, 4.6 M on a
+    // 2.3 M-face base mesh.
     Eigen::SparseMatrix<double> H(2 * nvar, 2 * nvar);
     H.setFromTriplets(trip.begin(), trip.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
-    if (solver.info() != Eigen::Success)
+    Eigen::SparseMatrix<double> upper = H.triangularView<Eigen::Upper>();
+    upper.makeCompressed();
+    const int n = int(upper.rows());
+    const std::vector<int> starts(upper.outerIndexPtr(), upper.outerIndexPtr() + n + 1);
+    const std::vector<int> rows(upper.innerIndexPtr(), upper.innerIndexPtr() + upper.nonZeros());
+    solvers::CholmodSolver solver;
+    solver.analyze(n, starts, rows);
+    if (!solver.factorize(upper.valuePtr()))
       throw SolveError("orientation field: the smoothness system could not be factorised "
                        "(a face with a zero stroke weight and no neighbours?)");
-    x = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !x.allFinite())
-      throw SolveError("orientation field: the smoothness solve failed");
+    solver.solve(rhs.data(), x.data());
+    if (!x.allFinite()) throw SolveError("orientation field: the smoothness solve failed");
   }
   std::vector<Complex> u(static_cast<size_t>(F));
   for (int f = 0; f < F; ++f)

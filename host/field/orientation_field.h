@@ -9,8 +9,9 @@
 /// where r_fg = exp(i N (θ_g − θ_f)) transports across the edge (θ_f, θ_g: the shared edge's
 /// angle in each face's basis — parallel transport by unfolding the hinge), c_f is the stroke
 /// direction's N-th power in face f's basis and λ = stroke_weight. The energy is a Hermitian
-/// quadratic form; in real 2×2 blocks it is one sparse SPD system solved by Eigen's
-/// SimplicialLDLT. A connected component that no stroke touches gets one hard constraint (its
+/// quadratic form; in real 2×2 blocks it is one sparse SPD system solved by CHOLMOD's supernodal
+/// Cholesky (solvers/linear/cholmod_solver.h, the solvers' own, under the process's thread
+/// policy). A connected component that no stroke touches gets one hard constraint (its
 /// face nearest to the component's centroid is aligned with the mesh's longest bounding-box
 /// axis), which makes the system definite and, on a flat plate, the field constant along
 /// that axis.
