@@ -91,7 +91,7 @@ void run_render(const RenderCommandOptions& opts) {
   // A field asked for by name must exist; `all` draws what there is.
   const bool all = opts.fields == "all";
   if (!all)
-    for (render::Field field : fields) (void)render::draw_picture(f, field, {64, 48, {render::View::Top}, false});
+    for (render::Field field : fields) (void)render::draw_picture(f, field, {64, 48, {render::View::Top}, false, {}});
   const DeviceChoice device = choose_device(opts.device);
   po.rasterizer = device.rasterizer;
   ensure_directory(out);

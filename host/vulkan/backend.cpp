@@ -92,17 +92,22 @@ ComputeBackend select_compute_backend(DeviceRequest request, std::ostream* warni
   try {
     vulkan::ContextOptions options = vulkan::ContextOptions::from_environment();
     options.require_float64 = true;
-    auto context = std::make_shared<vulkan::Context>(options);
+    const bool selected = !options.device.empty();
+    if (request == DeviceRequest::Auto) {
+      // Ask which device it would be before building one: a CPU implementation is never taken.
+      const vulkan::PhysicalDeviceInfo probed = vulkan::Context::probe(options);
+      const std::string type(vulkan::to_string(probed.type));
+      if (!auto_takes_vulkan_device(type, selected)) {
+        // Not a failure: a machine without a GPU runs the kernels on the TBB twins.
+        ComputeBackend b = cpu_backend();
+        b.reason = "--device auto: no GPU; the best Vulkan device, " + probed.name + ", is a " + type +
+                   " implementation, slower than the TBB kernels (--device vulkan uses it)";
+        return b;
+      }
+    }
+    auto context = std::make_shared<vulkan::Context>(options);  // the probed device, now built
     const vulkan::PhysicalDeviceInfo& info = context->info();
     const std::string type(vulkan::to_string(info.type));
-    const bool selected = !options.device.empty();
-    if (request == DeviceRequest::Auto && !auto_takes_vulkan_device(type, selected)) {
-      // Not a failure: a machine without a GPU runs the kernels on the TBB twins.
-      ComputeBackend b = cpu_backend();
-      b.reason = "--device auto: no GPU; the best Vulkan device, " + info.name + ", is a " + type +
-                 " implementation, slower than the TBB kernels (--device vulkan uses it)";
-      return b;
-    }
     ComputeBackend b;
     b.kind = ComputeBackend::Kind::Vulkan;
     b.name = info.name;

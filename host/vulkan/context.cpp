@@ -244,6 +244,25 @@ Context::Context(const ContextOptions& options) : m_options(options) {
   }
 }
 
+PhysicalDeviceInfo Context::probe(const ContextOptions& options) {
+  // A Context without its device: the destructor releases what exists.
+  Context p(options, Defer{});
+  try {
+    p.create_instance();
+    p.enumerate_devices();
+    p.m_device_index = choose_device(p.m_devices, p.m_options.device, p.m_options.require_float64);
+  } catch (...) {
+#ifdef CUTWORK_SANITIZE
+    keep_vulkan_libraries_mapped();
+#endif
+    throw;
+  }
+#ifdef CUTWORK_SANITIZE
+  keep_vulkan_libraries_mapped();
+#endif
+  return p.info();
+}
+
 Context::~Context() { destroy(); }
 
 void Context::destroy() noexcept {

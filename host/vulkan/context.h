@@ -97,6 +97,11 @@ class Context {
   /// Creates instance, device and queue. Throws DeviceError when no Vulkan driver or no usable
   /// device exists, or when validation was requested and the layer is missing.
   explicit Context(const ContextOptions& options = ContextOptions::from_environment());
+  /// The device a Context with these options would choose, found without creating a logical
+  /// device (instance, enumeration and choice only; the instance is destroyed again). What
+  /// `--device auto` asks first: on a machine whose best device is a CPU implementation it never
+  /// builds one. Throws DeviceError as the constructor does.
+  static PhysicalDeviceInfo probe(const ContextOptions& options);
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
@@ -150,6 +155,10 @@ class Context {
                         VkDebugUtilsMessageTypeFlagsEXT types, const char* message);
 
  private:
+  struct Defer {};
+  /// Stores the options only (probe()).
+  Context(const ContextOptions& options, Defer) : m_options(options) {}
+
   void create_instance();
   void enumerate_devices();
   void create_device();

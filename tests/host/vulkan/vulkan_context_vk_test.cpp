@@ -214,6 +214,24 @@ TEST_F(VulkanTest, ContextDescribesItsDevice) {
             << (d.uma ? " | UMA" : "") << (d.float64 ? " | fp64" : "") << "\n";
 }
 
+TEST_F(VulkanTest, ProbeNamesTheDeviceAContextWouldChooseWithoutBuildingIt) {
+  // The same options, with and without a selector: probe() and the constructor agree.
+  for (const char* selector : {"", "0"}) {
+    ContextOptions options = ctx().options();
+    options.device = selector;
+    const vulkan::PhysicalDeviceInfo probed = Context::probe(options);
+    const Context full(options);
+    EXPECT_EQ(probed.index, full.info().index) << selector;
+    EXPECT_EQ(probed.name, full.info().name);
+    EXPECT_EQ(probed.driver, full.info().driver);
+    EXPECT_EQ(probed.type, full.info().type);
+    expect_no_validation_messages(full);
+  }
+  ContextOptions bad = ctx().options();
+  bad.device = "no such device anywhere";
+  EXPECT_THROW(Context::probe(bad), DeviceError);
+}
+
 TEST_F(VulkanTest, ValidationMessagesAreCounted) {
   // The zero-message requirement is only worth something if the counter works: provoke one
   // harmless error (a buffer with no usage flags; drivers accept it, the layer does not).
