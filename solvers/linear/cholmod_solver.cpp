@@ -109,8 +109,10 @@ void CholmodSolver::Impl::build_permuted_pattern() {
     permuted_rows[std::size_t(slot)] = target_row[std::size_t(k)];
     to_permuted[std::size_t(k)] = slot;
   }
-  permuted_values.assign(nnz, 0.0);
+  permuted_values = std::vector<double>();
+  permuted_values.reserve(nnz);  // advised before its pages are first touched
   advise_large_pages(permuted_values.data(), nnz * sizeof(double));
+  permuted_values.assign(nnz, 0.0);
   permuted.nrow = permuted.ncol = std::size_t(n);
   permuted.nzmax = nnz;
   permuted.p = permuted_starts.data();
