@@ -4,12 +4,16 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <new>
 #include <stdexcept>
 
 #include <LBFGSpp/BFGSMat.h>
 #include <LBFGSpp/Cauchy.h>
 #include <LBFGSpp/Param.h>
 #include <LBFGSpp/SubspaceMin.h>
+
+#include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -40,6 +44,22 @@ auto propagating(F&& f) {
   }
 }
 
+/// What an evaluation throws decides what happens: a SolveError (no equilibrium at a trial point)
+/// or any other std::exception is a failed line search, which restarts the run; a bug in cutwork
+/// (InternalError), an interruption and running out of memory are on their way out (Propagate).
+template <typename F>
+double evaluate_objective(F&& f) {
+  try {
+    return f();
+  } catch (const InternalError&) {
+    throw Propagate{std::current_exception()};
+  } catch (const Interrupted&) {
+    throw Propagate{std::current_exception()};
+  } catch (const std::bad_alloc&) {
+    throw Propagate{std::current_exception()};
+  }
+}
+
 /// The objective as the quasi-Newton loop sees it: evaluations counted and cached, the best point
 /// kept, accepted iterates recorded. Its state lives in the LbfgsbState.
 class Tracker {
@@ -54,7 +74,7 @@ class Tracker {
     }
     ++m_result.evaluations;
     g.resize(x.size());
-    const double v = m_f(x, g);
+    const double v = evaluate_objective([&] { return m_f(x, g); });
     if (!std::isfinite(v) || !g.allFinite()) throw NonFiniteValue();
     const bool first = m_st.cache_x.size() == 0;
     m_st.cache_x = x;
@@ -276,6 +296,8 @@ LbfgsbResult minimize_lbfgsb(const LbfgsbObjective& f, const Eigen::VectorXd& x0
       result.history.push_back(INFINITY);
       result.stop_reason = "non-finite objective at the start";
       return result;
+    } catch (const Propagate& p) {
+      std::rethrow_exception(p.error);
     }
     result.history.push_back(result.f_start);
     if (x.size() == 0 || options.max_iterations == 0) {

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "solvers/optimize/lbfgsb.h"
 
 namespace cutwork {
@@ -109,6 +111,30 @@ TEST(Lbfgsb, KeepsTheBestPointWhenTheObjectiveMisbehaves) {
   EXPECT_LE(r2.x[0], 2.5);
   EXPECT_LT(r2.f, r2.f_start);
   EXPECT_TRUE(monotone(r2.history));
+}
+
+TEST(Lbfgsb, BugsInterruptionsAndOutOfMemoryInAnEvaluationLeaveTheRun) {
+  // A SolveError at a trial point is a failed line search (the run restarts and ends with a
+  // stop reason); an InternalError, an Interrupted or std::bad_alloc leave minimize_lbfgsb as
+  // they are, whether thrown at the start or at a later evaluation.
+  const Eigen::VectorXd lb = Eigen::VectorXd::Constant(2, -INFINITY), ub = Eigen::VectorXd::Constant(2, INFINITY);
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(2, 1.0);
+  auto throwing_at = [](int when, auto make) {
+    return [when, make, calls = 0](const Eigen::VectorXd& x, Eigen::VectorXd& g) mutable {
+      if (++calls == when) throw make();
+      g = 2 * (x - Eigen::VectorXd::Constant(2, 3.0));
+      return (x - Eigen::VectorXd::Constant(2, 3.0)).squaredNorm();
+    };
+  };
+  for (int when : {1, 3}) {
+    SCOPED_TRACE(when);
+    EXPECT_THROW(minimize_lbfgsb(throwing_at(when, [] { return InternalError("a bug"); }), x0, lb, ub), InternalError);
+    EXPECT_THROW(minimize_lbfgsb(throwing_at(when, [] { return Interrupted("stop", 2); }), x0, lb, ub), Interrupted);
+    EXPECT_THROW(minimize_lbfgsb(throwing_at(when, [] { return std::bad_alloc(); }), x0, lb, ub), std::bad_alloc);
+  }
+  const LbfgsbResult r = minimize_lbfgsb(throwing_at(3, [] { return SolveError("no equilibrium"); }), x0, lb, ub);
+  EXPECT_LT(r.f, r.f_start);
+  EXPECT_NEAR(r.f, 0.0, 1e-10) << "the run restarted after the failed evaluation and converged";
 }
 
 TEST(Lbfgsb, BadArguments) {
