@@ -98,14 +98,14 @@ void add_device_option(CLI::App& cmd, std::string& device) {
       ->capture_default_str();
 }
 
-DeviceChoice choose_device(const std::string& device) {
+DeviceChoice choose_device(const std::string& device, bool pictures) {
   DeviceChoice c;
   c.backend = select_compute_backend(parse_device_request(device), &std::cerr);
   c.fill = FillRatioOptions::for_backend(c.backend);
   c.rasterizer = render::Rasterizer::for_backend(c.backend);
   c.report = {{"kind", std::string(c.backend.kind_name())}, {"name", c.backend.name}, {"driver", c.backend.driver},
               {"requested", device}, {"reason", c.backend.reason},
-              {"render", std::string(c.rasterizer.kind_name())}};
+              {"render", pictures ? std::string(c.rasterizer.kind_name()) : std::string("none")}};
   if (!c.backend.fallback_reason.empty()) c.report["fallback_reason"] = c.backend.fallback_reason;
   return c;
 }

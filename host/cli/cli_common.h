@@ -67,12 +67,13 @@ struct DeviceChoice {
   ComputeBackend backend;
   FillRatioOptions fill;
   render::Rasterizer rasterizer;
-  nlohmann::json report;  ///< {kind, name, driver, requested, reason, render}
+  nlohmann::json report;  ///< {kind, name, driver, requested, reason, render ("none": no pictures)}
 };
 /// Resolves `--device` (see host/vulkan/backend.h). `auto` without a usable Vulkan device warns
 /// once on stderr (even with --quiet: it changes what runs) and uses the CPU; `vulkan` without
-/// one throws DeviceError.
-DeviceChoice choose_device(const std::string& device);
+/// one throws DeviceError. `pictures`: whether the run draws any (the report's `render` is
+/// "none" otherwise).
+DeviceChoice choose_device(const std::string& device, bool pictures = true);
 
 /// The live progress display of a pipeline: one line on the terminal, rewritten in place
 /// (phase, iteration, objective, gradient norm, W_max, elapsed), at most ten updates a second.

@@ -217,7 +217,7 @@ void run_design_command(const DesignCommandOptions& opts) {
     check_factor_work(scene, meshes, solvers::EquilibriumSolver(model).linear_solver().factor_nonzeros());
   }
   sw.restart();
-  const DeviceChoice device = choose_device(opts.device);
+  const DeviceChoice device = choose_device(opts.device, !opts.outputs.no_render);
   timings.add("device", sw.seconds());
 
   ProgressLine progress(opts.run);

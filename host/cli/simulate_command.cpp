@@ -105,7 +105,7 @@ void run_simulate(const SimulateOptions& opts) {
   std::optional<DeviceChoice> device;
   FillRatioOptions fill_options;
   if (with_stencils || !opts.outputs.no_render) {
-    device = choose_device(opts.device);
+    device = choose_device(opts.device, !opts.outputs.no_render);
     device_report = device->report;
     if (with_stencils) fill_options = device->fill;
   }

@@ -146,6 +146,7 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   ASSERT_EQ(d.exit_code, 0) << d.err;
   const auto design = read_json(dir / "design" / "report.json");
   EXPECT_EQ(design["mechanics"]["stiffness"], "homogenised");
+  EXPECT_EQ(design["device"]["render"], "none") << "--no-render draws nothing";
   const auto& curve = design["mechanics"]["stiffness_curve"];
   ASSERT_TRUE(curve.contains("alpha")) << design["mechanics"];
   const size_t n = curve["alpha"].size();
@@ -165,6 +166,8 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   ASSERT_EQ(l.exit_code, 0) << l.err;
   const auto hom = read_json(dir / "homogenised" / "report.json"), lin = read_json(dir / "linear" / "report.json");
   EXPECT_EQ(hom["solver"]["stiffness"], "homogenised");
+  EXPECT_EQ(hom["device"]["render"], "none");
+  EXPECT_EQ(hom["device"]["kind"], "cpu");
   EXPECT_EQ(lin["solver"]["stiffness"], "linear");
   const double w_design = design["structure"]["W_max_final"], w_sim = hom["equilibrium"]["W_max"];
   EXPECT_NEAR(w_sim, w_design, 1e-6 * w_design);
