@@ -14,7 +14,9 @@
 ///     second BLAS thread never paid: measured on the 2-core build machine (BM_Factorize_Threads,
 ///     30k DOFs, 1.95 GFlop, METIS) 1 thread took 1.37 s and 0.14 s CPU, 2 threads 14.6 s and
 ///     0.34 s CPU (the spinning peer waits for a core the other pools hold); the issue's own
-///     measurement found equal wall time at 40% more CPU.
+///     measurement found equal wall time at 40% more CPU. On a quiet machine with the gate below,
+///     two BLAS threads gave 115 → 114 ms at 30k DOFs and 4.74 → 3.95 s at 300k DOFs, for 1.6×
+///     the CPU: still not worth a second core's CPU.
 ///   - OpenMP: CHOLMOD 5 asks for a fixed team of CHOLMOD_OMP_NUM_THREADS (4) in its supernodal
 ///     copy loops, whatever omp_set_num_threads says. Those loops are memory-bound copies; on fewer
 ///     cores than that the team oversubscribes and spends its time in futex/spin waits. OpenMP
