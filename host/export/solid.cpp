@@ -2,12 +2,16 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <ostream>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -109,6 +113,65 @@ void write_stl(const std::filesystem::path& path, const Solid& solid) {
     std::memcpy(p, values, sizeof values);  // little-endian IEEE floats, as STL wants on x86/ARM
   }
   write_file_atomic(path, data);
+}
+
+bool is_oriented_manifold_soup(const RowMatX3i& faces, Eigen::Index num_vertices) {
+  const Eigen::Index F = faces.rows();
+  // 1. Three distinct, valid corners per triangle.
+  for (Eigen::Index f = 0; f < F; ++f) {
+    const int a = faces(f, 0), b = faces(f, 1), c = faces(f, 2);
+    if (std::min({a, b, c}) < 0 || std::max({a, b, c}) >= num_vertices) return false;
+    if (a == b || b == c || a == c) return false;
+  }
+  // 2. No directed edge twice.
+  std::vector<uint64_t> edges;
+  edges.reserve(size_t(3 * F));
+  for (Eigen::Index f = 0; f < F; ++f)
+    for (int k = 0; k < 3; ++k)
+      edges.push_back(uint64_t(uint32_t(faces(f, k))) << 32 | uint32_t(faces(f, (k + 1) % 3)));
+  std::sort(edges.begin(), edges.end());
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
+  // 3. One fan per vertex. The corner of (v, b, c) at v contributes the link edge b → c; with
+  // unique directed edges every link vertex starts and ends at most one link edge, so a vertex's
+  // link is disjoint paths and cycles, and it is one fan when a walk from the only path start (or
+  // from any edge when there is none) covers every link edge.
+  const size_t V = size_t(num_vertices);
+  std::vector<int> first(V + 1, 0);
+  for (Eigen::Index f = 0; f < F; ++f)
+    for (int k = 0; k < 3; ++k) ++first[size_t(faces(f, k)) + 1];
+  for (size_t v = 0; v < V; ++v) first[v + 1] += first[v];
+  std::vector<std::pair<int, int>> link(size_t(3 * F));
+  std::vector<int> cursor(first.begin(), first.end() - 1);
+  for (Eigen::Index f = 0; f < F; ++f)
+    for (int k = 0; k < 3; ++k)
+      link[size_t(cursor[size_t(faces(f, k))]++)] = {faces(f, (k + 1) % 3), faces(f, (k + 2) % 3)};
+  std::vector<int> ends;
+  for (size_t v = 0; v < V; ++v) {
+    const auto begin = link.begin() + first[v], end = link.begin() + first[v + 1];
+    const long degree = long(end - begin);
+    if (degree == 0) continue;
+    std::sort(begin, end);  // by start b (unique)
+    ends.clear();
+    for (auto it = begin; it != end; ++it) ends.push_back(it->second);
+    std::sort(ends.begin(), ends.end());
+    long starts = 0;
+    auto walk_from = begin;
+    for (auto it = begin; it != end; ++it)
+      if (!std::binary_search(ends.begin(), ends.end(), it->first)) {
+        ++starts;
+        walk_from = it;
+      }
+    if (starts > 1) return false;
+    long visited = 0;
+    for (auto it = walk_from; visited <= degree;) {
+      ++visited;
+      const auto next = std::lower_bound(begin, end, std::make_pair(it->second, std::numeric_limits<int>::min()));
+      if (next == end || next->first != it->second || next == walk_from) break;
+      it = next;
+    }
+    if (visited != degree) return false;
+  }
+  return true;
 }
 
 }  // namespace cutwork

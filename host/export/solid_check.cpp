@@ -30,7 +30,7 @@ SolidCheck check_solid(const Solid& solid) {
   for (Eigen::Index f = 0; f < solid.faces.rows(); ++f)
     polygons[size_t(f)] = {solid.faces(f, 0), solid.faces(f, 1), solid.faces(f, 2)};
 
-  c.manifold = PMP::is_polygon_soup_a_polygon_mesh(polygons);
+  c.manifold = is_oriented_manifold_soup(solid.faces, solid.vertices.rows());
   if (!c.manifold) {
     c.problem = "not manifold (an edge with more than two faces, or faces meeting only at a vertex)";
     return c;
