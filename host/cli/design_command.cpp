@@ -42,6 +42,7 @@ struct DesignCommandOptions {
   OutputOptions outputs;
   bool resume = false;
   double checkpoint_every = 60;  ///< seconds between checkpoints inside a phase (0: phase ends only)
+  bool no_discretisation_estimate = false;
 };
 
 // SIGINT / SIGTERM during a design: remembered here, acted on at the next optimiser boundary (a
@@ -263,19 +264,27 @@ void run_design_command(const DesignCommandOptions& opts) {
   // Everything is computed before anything is written; then staged and published as one set: a
   // failed run leaves the folder as it was.
   progress.stage("cut");
-  solvers::DesignRunInfo info{timings, device.report, notes};
+  solvers::DesignRunInfo info{timings, device.report, notes, !opts.no_discretisation_estimate};
   solvers::DesignOutputs design = solvers::finish_design(scene, meshes, ctx, r, std::move(info), total);
   solvers::add_design_files(design, scene, load_case, design_file_options(opts.outputs, &progress, device.rasterizer));
   progress.finish();
   solvers::write_design_outputs(placer(*outputs), design);
   outputs->publish();
-  for (const auto& n : notes) say(opts.run, "note: " + n);
+  // (the report's notes: the run's own and finish_design's, e.g. an unconverged simulation mesh)
+  for (const auto& n : design.report["notes"]) say(opts.run, "note: " + n.get<std::string>());
+  const nlohmann::json& disc = design.report.value("discretisation", nlohmann::json());
   say(opts.run,
       fmt::format("cutwork design: {}: {} stencils on {} triangles ({} simulated); W_max {:.4g} uncut, {:.4g} "
-                  "pattern, {:.4g} final (J/m^2); material left {:.1f}%; wrote {}",
+                  "pattern, {:.4g} final (J/m^2); material left {:.1f}%{}; wrote {}",
                   scene.name, r.layout.size(), meshes.base.num_faces(), meshes.sim.num_faces(),
                   r.uncut.summary.W_max, r.pattern_design.summary.W_max, r.final_design.summary.W_max,
-                  100 * r.final_design.material_fraction, files_written(out, solvers::design_output_names(design))));
+                  100 * r.final_design.material_fraction,
+                  disc.is_null() ? std::string()
+                                 : fmt::format("; compliance {:.4g} J, estimated discretisation error {:.1f}%{}",
+                                               r.final_design.summary.compliance,
+                                               100 * disc["final"]["estimated_error"].get<double>(),
+                                               disc["converged"].get<bool>() ? "" : " (not converged)"),
+                  files_written(out, solvers::design_output_names(design))));
 }
 
 }  // namespace
@@ -311,6 +320,9 @@ void add_design_command(CLI::App& app) {
                   "interval (0: only at phase ends)")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
+  cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,
+                "skip the solves at half the simulation edge length (uncut and final design) that estimate how far "
+                "from converged the numbers are (report.json `discretisation`)");
   cmd->callback([opts] { run_design_command(*opts); });
 }
 

@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <optional>
 #include <numbers>
 
 #include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
 #include "host/core/input_file.h"
+#include "host/core/timer.h"
 #include "host/pattern/pattern_context.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
@@ -15,6 +17,7 @@
 #include "host/scene/scene.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/objective/structural_quantities.h"
 #include "solvers/shell/shell_model.h"
 
 namespace cutwork::cli {
@@ -78,8 +81,12 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("FILE", *what, "scene file, built-in scene name, or mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("--stencils", *stencils,
                   "also validate a design's stencils.json against the scene, as `cutwork simulate --stencils` does");
+  auto no_equilibrium = std::make_shared<bool>(false);
+  cmd->add_flag("--no-equilibrium", *no_equilibrium,
+                "only read and validate: skip the uncut shell's equilibrium under the scene's loads (which says "
+                "whether the shell can carry them at all, as design and simulate would)");
   add_limit_options(*cmd);
-  cmd->callback([what, stencils] {
+  cmd->callback([what, stencils, no_equilibrium] {
     std::string notice;
     const Scene scene = load_scene(*what, &notice);
     const SceneMeshes meshes = build_scene_meshes(scene);
@@ -89,10 +96,22 @@ void add_check_command(CLI::App& app) {
     // model), the work the pattern asks for, the exemplar against the stencils, the sizing file
     // and the strokes (the pattern context), and a design's stencils.
     const solvers::ShellModel model(meshes.sim, scene.material, lc, solvers::scene_mechanics(scene));
-    const solvers::EquilibriumSolver analysis(model);  // CHOLMOD's symbolic analysis: the factor's size
+    solvers::EquilibriumSolver analysis(model);  // CHOLMOD's symbolic analysis: the factor's size
     check_factor_work(scene, meshes, analysis.linear_solver().factor_nonzeros());
     check_stencil_work(scene, meshes);
     const PatternContext ctx(scene, meshes);
+    // The uncut shell under the scene's loads, as design solves it first: a load it cannot carry
+    // fails here (SolveError, "the structure can carry only …% of the load", exit 2) in one
+    // equilibrium instead of after the pattern phase. Stencils only weaken the shell.
+    Stopwatch uncut_clock;
+    const Eigen::VectorXd solid = Eigen::VectorXd::Ones(meshes.sim.num_faces());
+    std::optional<solvers::EquilibriumStats> uncut_stats;
+    solvers::EquilibriumSummary uncut;
+    if (!*no_equilibrium) {
+      uncut_stats = analysis.solve(solid);
+      uncut = solvers::summarize_equilibrium(model, analysis.positions(), solid);
+    }
+    const double uncut_seconds = uncut_clock.seconds();
     size_t stencil_count = 0;
     if (!stencils->empty()) {
       const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
@@ -131,6 +150,17 @@ void add_check_command(CLI::App& app) {
     std::cout << fmt::format("simulation: {} DOFs, stiffness factor {} nonzeros (about {:.3g} GB)\n", model.num_dofs(),
                              analysis.linear_solver().factor_nonzeros(),
                              factor_bytes(analysis.linear_solver().factor_nonzeros()) / 1e9);
+    if (uncut_stats)
+      std::cout << fmt::format("uncut equilibrium: carries the whole load; compliance {:.4g} J, largest displacement "
+                               "{:.3g} m ({:.2g}% of the model size), W_max {:.4g} J/m^2 ({} Newton iterations{}, "
+                               "{:.2g} s)\n",
+                               uncut.compliance, uncut.max_displacement,
+                               100 * uncut.max_displacement / model.model_size(), uncut.W_max,
+                               uncut_stats->newton_iterations,
+                               uncut_stats->load_steps > 0 ? fmt::format(", {} load steps", uncut_stats->load_steps) : "",
+                               uncut_seconds);
+    else
+      std::cout << "uncut equilibrium: not solved (--no-equilibrium)\n";
     std::cout << fmt::format("stencil shapes: {}; pattern: about {:.0f} stencils (estimated)\n", scene.shapes.size(),
                              estimate_stencil_count(scene.pattern, meshes.base));
     if (!stencils->empty()) std::cout << fmt::format("stencils file: {} stencils\n", stencil_count);

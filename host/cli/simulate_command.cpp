@@ -22,6 +22,8 @@
 #include "host/pattern/stencils_json.h"
 #include "host/scene/work_estimate.h"
 #include "host/stencil/frame.h"
+#include "solvers/conforming/conforming_verification.h"
+#include "solvers/conforming/discretisation_estimate.h"
 #include "solvers/optimize/stencilled_shell.h"
 #include "solvers/report/simulate_report.h"
 
@@ -34,6 +36,7 @@ struct SimulateOptions {
   std::string stencils;
   std::string device = "auto";
   OutputOptions outputs;
+  bool no_discretisation_estimate = false;
 };
 
 /// What the stenciled shell is built on besides the simulation mesh: the surface the stencils sit
@@ -125,9 +128,10 @@ void run_simulate(const SimulateOptions& opts) {
   check_factor_work(scene, meshes, shell.solver().linear_solver().factor_nonzeros());  // before any factorisation
 
   std::optional<CutSurface> cut;
+  std::vector<StencilParams> stencils;
   if (with_stencils) {
     sw.restart();
-    const std::vector<StencilParams> stencils = set_design_stencils(shell, surface, meshes, opts.stencils);
+    stencils = set_design_stencils(shell, surface, meshes, opts.stencils);
     if (!stencils.empty())
       cut = cut_stencils(surface.bvh(), surface.shapes(), surface.field(), stencils);  // render_design
     fill_seconds += sw.seconds();
@@ -153,10 +157,24 @@ void run_simulate(const SimulateOptions& opts) {
         "positive definite after {} Newton iterations); lower the loads or stiffen the shell",
         stats.newton_iterations));
 
+  // How far from converged: the same shell and stencils at half the simulation edge length.
+  std::optional<solvers::DiscretisationEstimate> estimate;
+  if (!opts.no_discretisation_estimate) {
+    sw.restart();
+    const solvers::RefinedSimulationMesh refined = solvers::refine_simulation_mesh(scene, meshes);
+    const Eigen::VectorXd refined_alpha = solvers::fill_ratios_on_mesh(surface.bvh(), surface.shapes(), surface.field(),
+                                                                       refined.mesh, stencils, fill_options);
+    estimate = solvers::estimate_discretisation(scene, refined, refined_alpha, model.mechanics(), summary,
+                                                solvers::simulation_edge_length(scene, meshes), model.num_faces());
+    timings.add("discretisation", sw.seconds());
+    if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
+  }
+
   const solvers::FillRatioSource fill{with_stencils ? opts.stencils : std::string("uncut"), shell.num_stencils(),
                                       &alpha};
-  const nlohmann::json report =
+  nlohmann::json report =
       solvers::simulate_report(scene, meshes, model, shell.solver(), stats, summary, fill, timings, device_report);
+  if (estimate) report["discretisation"] = solvers::discretisation_json(*estimate);
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
   const RowMatX3d u = shell.solver().displacements();
@@ -206,6 +224,9 @@ void add_simulate_command(CLI::App& app) {
                   "shell (fill ratios) instead of the uncut one");
   add_device_option(*cmd, opts->device);
   add_output_options(*cmd, opts->outputs);
+  cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,
+                "skip the second solve at half the simulation edge length that estimates how far from converged "
+                "the numbers are (report.json `discretisation`)");
   cmd->callback([opts] { run_simulate(*opts); });
 }
 

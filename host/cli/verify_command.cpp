@@ -34,7 +34,9 @@ struct VerifyOptions {
   std::string dir;
   std::string scene;          ///< overrides the scene the design's report names
   double edge_length = 0;     ///< 0: half the base mesh's mean edge length
-  int levels = 1;
+  int levels = 4;             ///< at most
+  double tolerance = 0.01;    ///< stop when the compliance changes by less (0: run every level)
+  int max_faces = 400'000;
   int threads = 0;
   bool quiet = false;
 };
@@ -74,6 +76,7 @@ std::string design_scene(const VerifyOptions& opts, const fs::path& dir, const j
 
 json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh& sim) {
   json c = {{"compliance_ratio", number_or_null(v.compliance_ratio)},
+            {"compliance_ratio_extrapolated", number_or_null(v.compliance_ratio_extrapolated)},
             {"strain_energy_ratio", number_or_null(v.strain_energy_ratio)},
             {"max_displacement_ratio", number_or_null(v.max_displacement_ratio)},
             {"W_max_ratio", number_or_null(v.W_max_ratio)},
@@ -94,12 +97,21 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
   return c;
 }
 
-json convergence_json(const std::vector<solvers::RunQuantities>& levels) {
+json convergence_json(const solvers::ConformingVerification& v, double tolerance) {
   // |C_{k+1} − C_k| / C_finest between consecutive levels: shrinking when the conforming solve converges.
+  const std::vector<solvers::RunQuantities>& levels = v.levels;
   json d = json::array();
   const double c = levels.back().compliance;
   for (size_t k = 1; k < levels.size(); ++k) d.push_back(std::abs(levels[k].compliance - levels[k - 1].compliance) / c);
-  return {{"compliance_relative_differences", d}};
+  return {{"compliance_relative_differences", d},
+          {"converged", v.converged},
+          {"tolerance", tolerance},
+          {"stop", v.stop},
+          {"last_change", number_or_null(v.last_change)},
+          {"compliance_finest", c},
+          {"compliance_extrapolated", number_or_null(v.extrapolated_compliance)},
+          {"compliance_error_bar", number_or_null(v.compliance_error_bar)},
+          {"observed_order", number_or_null(v.observed_order)}};
 }
 
 void run_verify(const VerifyOptions& opts) {
@@ -132,6 +144,8 @@ void run_verify(const VerifyOptions& opts) {
   solvers::ConformingOptions co;
   co.edge_length = opts.edge_length > 0 ? opts.edge_length : 0.5 * meshes.base.mean_edge_length();
   co.levels = opts.levels;
+  co.tolerance = opts.tolerance;
+  co.max_faces = opts.max_faces;
   sw.restart();
   const solvers::ConformingVerification v =
       solvers::verify_conforming(loaded.scene, meshes, loaded.load_case, ctx, sf.stencils, co);
@@ -141,12 +155,16 @@ void run_verify(const VerifyOptions& opts) {
   json report = solvers::base_report(loaded.scene, meshes, timings);
   report["design"] = dir.string();
   report["stencils"] = sf.stencils.size();
-  report["options"] = {{"edge_length", co.edge_length}, {"levels", co.levels}};
+  report["options"] = {{"edge_length", co.edge_length},
+                       {"levels", co.levels},
+                       {"tolerance", co.tolerance},
+                       {"max_faces", co.max_faces}};
   report["coarse"] = run_json(v.coarse);
   json levels = json::array();
   for (const auto& q : v.levels) levels.push_back(run_json(q));
   report["conforming"] = {{"levels", levels}, {"finest", run_json(v.levels.back())}};
-  report["convergence"] = convergence_json(v.levels);
+  report["convergence"] = convergence_json(v, co.tolerance);
+  report["converged"] = v.converged;
   report["comparison"] = comparison_json(v, meshes.sim);
   std::vector<std::string> notes = loaded.notes;
   notes.insert(notes.end(), v.notes.begin(), v.notes.end());
@@ -182,12 +200,23 @@ void run_verify(const VerifyOptions& opts) {
   write_json_atomic(out / "report.json", report);
   if (!opts.quiet) {
     for (const auto& n : notes) say(run, "note: " + n);
+    const std::string convergence =
+        v.levels.size() < 2
+            ? std::string("one level, convergence not measured")
+            : fmt::format("{} after {} levels (last change {:.2g}%{}): conforming compliance {:.5g} J, extrapolated "
+                          "{:.5g} ± {:.2g} J{}",
+                          v.converged ? "converged" : "NOT converged", v.levels.size(), 100 * v.last_change,
+                          v.stop == "budget" ? ", face budget reached" : "", v.levels.back().compliance,
+                          v.extrapolated_compliance, v.compliance_error_bar,
+                          std::isfinite(v.observed_order) ? fmt::format(" (observed order {:.2f})", v.observed_order)
+                                                          : std::string());
     say(run, fmt::format("cutwork verify: {}: {} stencils; coarse {} triangles, conforming {} triangles (L = {:.3g} m); "
-                         "coarse/conforming compliance {:.4f}, strain energy {:.4f}, max displacement {:.4f}, "
-                         "W_max {:.4f}; W relative L2 difference {:.3f}; wrote {}",
+                         "{}; coarse/conforming compliance {:.4f} (extrapolated {:.4f}), strain energy {:.4f}, "
+                         "max displacement {:.4f}, W_max {:.4f}; W relative L2 difference {:.3f}; wrote {}",
                          loaded.scene.name, sf.stencils.size(), v.coarse.faces, v.levels.back().faces,
-                         v.levels.back().edge_length, v.compliance_ratio, v.strain_energy_ratio,
-                         v.max_displacement_ratio, v.W_max_ratio, v.W_relative_l2, (out / "report.json").string()));
+                         v.levels.back().edge_length, convergence, v.compliance_ratio, v.compliance_ratio_extrapolated,
+                         v.strain_energy_ratio, v.max_displacement_ratio, v.W_max_ratio, v.W_relative_l2,
+                         (out / "report.json").string()));
   }
 }
 
@@ -212,8 +241,18 @@ void add_verify_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--levels", opts->levels,
-                  "conforming solves at L, L/2, ... (the comparison uses the finest; the report shows convergence)")
+                  "at most this many conforming solves at L, L/2, L/4, ... (the comparison uses the finest and the "
+                  "Richardson-extrapolated compliance; the report shows the convergence)")
       ->check(CLI::Range(1, 6))
+      ->capture_default_str();
+  cmd->add_option("--tolerance", opts->tolerance,
+                  "stop refining once the conforming compliance changes by less than this fraction between two "
+                  "levels (report.json `converged`; 0: run every level)")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  cmd->add_option("--max-faces", opts->max_faces,
+                  "refine no further when the next conforming level would exceed this many triangles")
+      ->check(CLI::Range(1, 100'000'000))
       ->capture_default_str();
   cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
       ->check(CLI::Range(0, 4096))

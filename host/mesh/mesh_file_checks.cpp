@@ -105,6 +105,9 @@ class PlyBody {
     return true;
   }
 
+  /// The bytes not read yet.
+  std::size_t remaining() const { return m_body.size() - m_pos; }
+
   /// True when nothing but (ASCII) whitespace is left.
   bool at_end() {
     if (m_format == PlyFormat::kAscii) skip_space();
@@ -243,8 +246,36 @@ void check_ply_structure(std::string_view content, const std::string& what) {
   for (const PlyElement& e : elements)
     if (e.name == "vertex") num_vertices = e.count;
 
-  PlyBody body(content.substr(pos), *format);
+  // The declared counts against the size of the data, before anything is read: an item of an
+  // element takes at least its fixed-size properties' bytes and its lists' length fields
+  // (binary), or one character and a separator per property (ASCII; the file's last value needs
+  // no separator). Divided, not multiplied: the counts may be anything up to 2^63 - 1.
+  const std::string_view data = content.substr(pos);
+  const std::uint64_t data_bytes = data.size();
   for (const PlyElement& e : elements) {
+    const auto count = std::uint64_t(e.count);
+    if (e.properties.empty()) {
+      // Nothing to read per item, but assimp builds (binary) or skips a line for (ASCII) each
+      // one: no more of them than bytes in the file.
+      if (count > data_bytes)
+        fail(fmt::format("the PLY header declares {} {} elements without properties, more than the {} bytes "
+                         "of data after the header (wrong element count?)",
+                         e.count, e.name, data_bytes));
+      continue;
+    }
+    std::uint64_t min_bytes = 0;
+    for (const PlyProperty& p : e.properties)
+      min_bytes += *format == PlyFormat::kAscii ? 2 : ply_size(p.is_list ? p.count_type : p.type);
+    const std::uint64_t room = data_bytes + (*format == PlyFormat::kAscii ? 1 : 0);
+    if (count > room / min_bytes)
+      fail(fmt::format("the PLY header declares {} {} elements, but the {} bytes of data after the header "
+                       "hold at most {} (at least {} byte{} each; truncated file or wrong element count)",
+                       e.count, e.name, data_bytes, room / min_bytes, min_bytes, min_bytes == 1 ? "" : "s"));
+  }
+
+  PlyBody body(data, *format);
+  for (const PlyElement& e : elements) {
+    if (e.properties.empty()) continue;  // no data to check (the count is bounded above)
     for (long long i = 0; i < e.count; ++i) {
       auto truncated = [&] {
         fail(fmt::format("the file ends inside {} {} of the {} declared in the PLY header "
@@ -265,6 +296,9 @@ void check_ply_structure(std::string_view content, const std::string& what) {
             e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
         if (corners && count < 3)
           fail(fmt::format("face {} has {} vertices (a face needs at least 3)", i, count));
+        // Each value takes at least one byte (ASCII: a character): a longer list is cut short.
+        const std::size_t value_bytes = *format == PlyFormat::kAscii ? 1 : ply_size(p.type);
+        if (count > double(body.remaining() / value_bytes)) truncated();
         for (long long k = 0; k < (long long)(count); ++k) {
           if (!body.next(p.type, value)) truncated();
           if (corners && num_vertices >= 0 && !is_integer_in(value, 0, double(num_vertices)))
@@ -324,8 +358,18 @@ void check_off_structure(std::string_view content, const std::string& what) {
                    : "not an OFF file: it starts neither with 'OFF' nor with the vertex and face counts");
   if (*nv < 0 || *nf < 0) fail(fmt::format("negative counts in the OFF header ({} {})", *nv, *nf));
 
+  // Each count on its own first (their sum may overflow), then both together: every vertex and
+  // every face is one non-blank line.
   const long long available = (long long)(lines.size() - next);
-  if (available < *nv + *nf)
+  if (*nv > available)
+    fail(fmt::format("the OFF header declares {} vertices, but the file has only {} data lines (truncated "
+                     "file or wrong counts)",
+                     *nv, available));
+  if (*nf > available)
+    fail(fmt::format("the OFF header declares {} faces, but the file has only {} data lines (truncated file "
+                     "or wrong counts)",
+                     *nf, available));
+  if (*nf > available - *nv)
     fail(fmt::format("the file ends before the {} vertices and {} faces declared in the OFF header "
                      "({} data lines found; truncated file or wrong counts)",
                      *nv, *nf, available));

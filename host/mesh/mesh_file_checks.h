@@ -9,6 +9,13 @@
 /// and throws InputError("<what>: <problem>") for what assimp would hide: data that ends before
 /// the declared counts, extra data after them, faces with fewer than 3 corners and face indices
 /// outside [0,#V). Files these checks cannot interpret are left to assimp's own errors.
+///
+/// Header counts are believed only as far as the file's size allows, and are checked against it
+/// before anything is read or allocated for them (a count may be anything up to 2^63 - 1): an
+/// OFF count beyond the data lines, a PLY element count beyond what the bytes after the header
+/// can hold (at its smallest encoding), a PLY list length beyond the bytes left, a binary STL
+/// facet count that does not give the file's size. The work done here is O(file size) whatever
+/// the header says, and assimp never sees a header that claims more than the file holds.
 #include <string>
 #include <string_view>
 

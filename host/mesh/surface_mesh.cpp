@@ -356,4 +356,23 @@ double max_aspect_ratio(const SurfaceMesh& mesh) {
   return worst;
 }
 
+SurfaceMesh midpoint_subdivision(const SurfaceMesh& mesh) {
+  const int nv = mesh.num_vertices(), ne = mesh.num_edges(), nf = mesh.num_faces();
+  RowMatX3d V(nv + ne, 3);
+  V.topRows(nv) = mesh.vertices();
+  for (int e = 0; e < ne; ++e)
+    V.row(nv + e) = 0.5 * (mesh.vertices().row(mesh.edges()(e, 0)) + mesh.vertices().row(mesh.edges()(e, 1)));
+  RowMatX3i F(4 * nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    const int a = mesh.faces()(f, 0), b = mesh.faces()(f, 1), c = mesh.faces()(f, 2);
+    // face_edges(f,k) runs from corner k to corner k+1.
+    const int ab = nv + mesh.face_edges()(f, 0), bc = nv + mesh.face_edges()(f, 1), ca = nv + mesh.face_edges()(f, 2);
+    F.row(4 * f + 0) << a, ab, ca;
+    F.row(4 * f + 1) << ab, b, bc;
+    F.row(4 * f + 2) << ca, bc, c;
+    F.row(4 * f + 3) << ab, bc, ca;
+  }
+  return SurfaceMesh(std::move(V), std::move(F), "midpoint subdivision");
+}
+
 }  // namespace cutwork

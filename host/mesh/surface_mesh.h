@@ -103,6 +103,12 @@ class SurfaceMesh {
   int m_num_components = 0;
 };
 
+/// The 1 → 4 midpoint subdivision of `mesh`: the vertices (same indices) followed by one vertex at
+/// the middle of each edge (index #V + e), and four faces per face (corner triangles, then the
+/// middle one), oriented like their parent. The surface is the same set of flat facets, at half
+/// the edge length.
+SurfaceMesh midpoint_subdivision(const SurfaceMesh& mesh);
+
 /// Triangle quality: the smallest interior angle (radians) over all faces.
 double min_angle(const SurfaceMesh& mesh);
 /// Largest ratio longest-edge / shortest-altitude-normalised aspect (1 for equilateral, ≥ 1).

@@ -31,7 +31,7 @@ const std::vector<Entry>& entries() {
   )json" CUTWORK_PA12 R"json(,
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "x": {"below": -0.0999}}}],
   "loads": [{"type": "point", "force": [0, 0, -1.0],
-             "select": {"entity": "vertices", "x": {"above": 0.0999}, "near": {"point": [0.1, 0, 0]}, "nearest": 1}}],
+             "select": {"entity": "vertices", "near": {"point": [0.1, 0, 0], "radius": 0.005}}}],
   "stencils": [{"name": "circle", "kind": "circle"}],
   "pattern": {"objective": "packing", "s": 0.2, "epsilon": 0.25, "seed": 1},
   "structure": {"objective": "energy_density", "w_S": 500, "beta": 0.5}
@@ -52,7 +52,7 @@ const std::vector<Entry>& entries() {
   )json" CUTWORK_PA12 R"json(,
   "supports": [{"type": "pinned", "select": {"entity": "boundary_vertices"}}],
   "loads": [{"type": "point", "force": [0, 0, -20],
-             "select": {"entity": "vertices", "near": {"point": [0, 0, -1]}, "nearest": 7}}],
+             "select": {"entity": "vertices", "near": {"point": [0, 0, 0], "radius": 0.015}}}],
   "stencils": [{"name": "flower", "kind": "flower"}, {"name": "circle", "kind": "circle"}],
   "pattern": {"objective": "exemplar", "exemplar": "flowers", "s": 0.1, "r_N": 0.3, "seed": 1, "count": 185},
   "structure": {"objective": "energy_density", "w_S": 200, "beta": 0.8}

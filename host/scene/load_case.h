@@ -62,6 +62,10 @@ struct LoadCase {
   /// Gravitational acceleration for self-weight (m/s²); zero when the scene has none. The
   /// self-weight of face t is α_t ρ h A_t g, lumped equally to its three vertices.
   Vec3 gravity = Vec3::Zero();
+  /// One per entry of the scene's loads: what the load was spread over — the area (m²) or length
+  /// (m) inside its region, or the number of vertices of a `nearest` point load; 0 for
+  /// self-weight. Lets another mesh carry the same totals (resolve_load_case's match_totals).
+  std::vector<double> load_measures;
 };
 
 }  // namespace cutwork

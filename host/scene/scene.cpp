@@ -9,6 +9,7 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/exemplar.h"
 #include "host/scene/json_reader.h"
+#include "host/scene/load_regions.h"
 #include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 
@@ -647,7 +648,8 @@ std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh, c
   return out;
 }
 
-LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const std::vector<bool>* outer_boundary) {
+LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const std::vector<bool>* outer_boundary,
+                           const LoadCase* match_totals) {
   const std::string origin = scene_origin(scene);
   LoadCase lc;
   const int nv = mesh.num_vertices();
@@ -682,38 +684,138 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
     }
   }
   const RowMatX3d& V = mesh.vertices();
-  for (const auto& l : scene.loads) {
+  const RowMatX3i& F = mesh.faces();
+  const RowMatX2i& E = mesh.edges();
+  auto on_boundary = [&](int v) { return mesh.is_boundary_vertex()[v] && (!outer_boundary || (*outer_boundary)[v]); };
+  // The edges a line-type load may act on: the (outer) boundary edges, or every edge.
+  auto line_edges = [&](bool boundary_only) {
+    std::vector<int> es;
+    for (int e = 0; e < mesh.num_edges(); ++e)
+      if (!boundary_only || (mesh.edge_faces()(e, 1) < 0 && on_boundary(E(e, 0)) && on_boundary(E(e, 1))))
+        es.push_back(e);
+    return es;
+  };
+  // Spreads `per_measure` (N/m² or N/m) over the part of the surface (or of the line) inside the
+  // selector's region with consistent nodal weights; adds to `out`, returns the measure.
+  auto spread_over_area = [&](const Selector& sel, auto&& traction_of_face, RowMatX3d& out) {
+    double measure = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const Vec3 a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
+      const RegionMoment m = triangle_in_region(a, b, c, sel);
+      if (!(m.measure > 0)) continue;
+      measure += m.measure;
+      const Vec3 w = triangle_nodal_weights(a, b, c, m);
+      const Vec3 t = traction_of_face(f);
+      for (int k = 0; k < 3; ++k) out.row(F(f, k)) += w[k] * t.transpose();
+    }
+    return measure;
+  };
+  auto spread_over_line = [&](const Selector& sel, const Vec3& per_length, RowMatX3d& out) {
+    double measure = 0;
+    for (int e : line_edges(sel.entity != Entity::Edges)) {
+      const Vec3 a = V.row(E(e, 0)).transpose(), b = V.row(E(e, 1)).transpose();
+      const RegionMoment m = segment_in_region(a, b, sel);
+      if (!(m.measure > 0)) continue;
+      measure += m.measure;
+      const auto w = segment_nodal_weights(a, b, m);
+      out.row(E(e, 0)) += w[0] * per_length.transpose();
+      out.row(E(e, 1)) += w[1] * per_length.transpose();
+    }
+    return measure;
+  };
+  auto nothing_inside = [&](const Selector& sel, const char* what) {
+    std::string where;
+    if (sel.near_point) {
+      double closest = INFINITY;
+      for (int v = 0; v < nv; ++v) closest = std::min(closest, (V.row(v).transpose() - *sel.near_point).norm());
+      where = "; its nearest vertex is " + format_number(closest) + " m from near.point";
+    }
+    return InputError(origin + ": " + sel.json_path + ": its region holds no " + what +
+                      " of the simulation mesh (bounding box [" + format_number(mesh.bbox_min()[0]) + ", " +
+                      format_number(mesh.bbox_min()[1]) + ", " + format_number(mesh.bbox_min()[2]) + "] to [" +
+                      format_number(mesh.bbox_max()[0]) + ", " + format_number(mesh.bbox_max()[1]) + ", " +
+                      format_number(mesh.bbox_max()[2]) + "]" + where + ")");
+  };
+  if (match_totals && match_totals->load_measures.size() != scene.loads.size())
+    throw Error("resolve_load_case: the load case to match was resolved from another scene");
+  lc.load_measures.assign(scene.loads.size(), 0.0);
+  for (size_t i = 0; i < scene.loads.size(); ++i) {
+    const LoadSpec& l = scene.loads[i];
     if (l.kind == LoadKind::SelfWeight) {
       lc.gravity += l.gravity;
       continue;
     }
-    const std::vector<int> ids = selected(l.select);
-    switch (l.kind) {
-      case LoadKind::Point: {
-        const std::vector<int> vs = vertices_of(l.select, ids);
-        for (int v : vs) lc.forces.row(v) += l.force.transpose() / double(vs.size());
-        break;
+    const Selector& sel = l.select;
+    RowMatX3d forces = RowMatX3d::Zero(nv, 3);
+    double& measure = lc.load_measures[i];
+    bool per_measure = true;  // a load per area or length (scaled to match), not a total
+    if (sel.nearest > 0) {
+      // `nearest`: the n closest entities, as selected on this mesh (mesh-dependent by nature).
+      const std::vector<int> ids = selected(sel);
+      switch (l.kind) {
+        case LoadKind::Point: {
+          const std::vector<int> vs = vertices_of(sel, ids);
+          for (int v : vs) forces.row(v) += l.force.transpose() / double(vs.size());
+          measure = double(vs.size());
+          per_measure = false;
+          break;
+        }
+        case LoadKind::Edge:
+          for (int e : ids) {
+            const double len = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
+            forces.row(E(e, 0)) += 0.5 * len * l.force.transpose();
+            forces.row(E(e, 1)) += 0.5 * len * l.force.transpose();
+            measure += len;
+          }
+          break;
+        case LoadKind::Area:
+        case LoadKind::Pressure:
+          for (int f : ids) {
+            const double A = mesh.face_areas()[f];
+            const Vec3 t = l.kind == LoadKind::Area ? l.force : Vec3(l.pressure * mesh.face_normals().row(f).transpose());
+            for (int k = 0; k < 3; ++k) forces.row(F(f, k)) += (A / 3.0) * t.transpose();
+            measure += A;
+          }
+          break;
+        case LoadKind::SelfWeight: break;
       }
-      case LoadKind::Edge:
-        for (int e : ids) {
-          const int a = mesh.edges()(e, 0), b = mesh.edges()(e, 1);
-          const double len = (V.row(a) - V.row(b)).norm();
-          lc.forces.row(a) += 0.5 * len * l.force.transpose();
-          lc.forces.row(b) += 0.5 * len * l.force.transpose();
+    } else {
+      switch (l.kind) {
+        case LoadKind::Point: {
+          // A total force spread evenly over the surface (or, for boundary vertices, the boundary
+          // line) inside the region: a patch load of the region's physical size.
+          per_measure = false;
+          const bool line = sel.entity == Entity::BoundaryVertices;
+          measure = line ? spread_over_line(sel, l.force, forces)
+                         : spread_over_area(sel, [&](int) { return l.force; }, forces);
+          if (!(measure > 0)) throw nothing_inside(sel, line ? "boundary length" : "surface area");
+          forces /= measure;
+          break;
         }
-        break;
-      case LoadKind::Area:
-      case LoadKind::Pressure:
-        for (int f : ids) {
-          const double A = mesh.face_areas()[f];
-          const Vec3 per_vertex = l.kind == LoadKind::Area
-                                      ? Vec3(l.force * A / 3.0)
-                                      : Vec3(l.pressure * A / 3.0 * mesh.face_normals().row(f).transpose());
-          for (int k = 0; k < 3; ++k) lc.forces.row(mesh.faces()(f, k)) += per_vertex.transpose();
-        }
-        break;
-      case LoadKind::SelfWeight: break;
+        case LoadKind::Edge:
+          measure = spread_over_line(sel, l.force, forces);
+          if (!(measure > 0)) throw nothing_inside(sel, sel.entity == Entity::Edges ? "edge length" : "boundary length");
+          break;
+        case LoadKind::Area:
+        case LoadKind::Pressure:
+          measure = spread_over_area(
+              sel,
+              [&](int f) {
+                return l.kind == LoadKind::Area ? l.force : Vec3(l.pressure * mesh.face_normals().row(f).transpose());
+              },
+              forces);
+          if (!(measure > 0)) throw nothing_inside(sel, "surface area");
+          break;
+        case LoadKind::SelfWeight: break;
+      }
     }
+    // A load per area or length carries the total of the load case it matches: on a mesh with
+    // holes cut, the share that falls on the holes goes to the material left in the region.
+    if (match_totals && per_measure && measure > 0) {
+      forces *= match_totals->load_measures[i] / measure;
+      measure = match_totals->load_measures[i];
+    }
+    lc.forces += forces;
   }
   return lc;
 }

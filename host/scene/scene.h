@@ -47,10 +47,10 @@ struct SupportSpec {
 };
 
 enum class LoadKind {
-  Point,        ///< `force` (N) in total, split equally over the selected vertices
-  Edge,         ///< `force` per length (N/m) on the selected edges, lumped to their ends
-  Area,         ///< `force` per area (N/m²) on the selected faces, lumped to their vertices
-  Pressure,     ///< `pressure` (Pa) along the faces' rest normals, lumped to their vertices
+  Point,        ///< `force` (N) in total, spread evenly over the surface inside the region
+  Edge,         ///< `force` per length (N/m) along the (boundary) edges inside the region
+  Area,         ///< `force` per area (N/m²) over the surface inside the region
+  Pressure,     ///< `pressure` (Pa) along the faces' rest normals, over the surface inside the region
   SelfWeight,   ///< `gravity` (m/s²) times ρ h α A per face
 };
 
@@ -176,12 +176,23 @@ struct SceneMeshes {
 SceneMeshes build_scene_meshes(const Scene& scene);
 
 /// Resolves supports and loads onto `mesh` (normally the simulation mesh).
+/// Supports fix the vertices their selector picks. Loads are integrated over their selector's
+/// region (host/scene/load_regions.h), so that they do not depend on the mesh: an area or
+/// pressure load over the surface inside the region, an edge load along the (boundary) edges
+/// inside it, and a point load — a total force — spread evenly over the surface inside the region
+/// (along the boundary inside it for `boundary_vertices`), i.e. a patch load of the region's size.
+/// A selector with `nearest` keeps the mesh-dependent rule: the n closest entities, whole.
 /// `outer_boundary` (#V, optional): the boundary vertices that boundary selectors may pick —
 /// for a mesh with stencils cut out, those on the uncut surface's boundary, so that a support
 /// "on the boundary" does not land on the rims of the holes. Default: every boundary vertex.
+/// `match_totals` (optional; the same scene resolved on another mesh): every load per area or
+/// length is scaled so that its total equals the one it has there — on a mesh with holes cut,
+/// the share of a dead load that falls on the holes is carried by the material left in the
+/// region (the rule of docs/SCENES.md "Loads over holes").
 /// Throws InputError naming the selector's JSON path when it selects nothing.
 LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh,
-                           const std::vector<bool>* outer_boundary = nullptr);
+                           const std::vector<bool>* outer_boundary = nullptr,
+                           const LoadCase* match_totals = nullptr);
 
 /// Indices of the entities `sel` selects on `mesh` (vertex, edge or face indices by entity).
 /// Boundary entities are restricted to `outer_boundary` when given (see resolve_load_case; a

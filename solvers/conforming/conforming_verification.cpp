@@ -102,14 +102,49 @@ double ratio(double a, double b) { return b != 0 ? a / b : std::numeric_limits<d
 
 }  // namespace
 
-Eigen::VectorXd design_fill_ratios(const PatternContext& ctx, const SceneMeshes& meshes,
-                                   std::span<const StencilParams> stencils, FillRatioOptions fill) {
-  if (stencils.empty()) return Eigen::VectorXd::Ones(meshes.sim.num_faces());
+void extrapolate_compliance(ConformingVerification& v) {
+  const size_t n = v.levels.size();
+  if (n == 0) return;
+  const double finest = v.levels[n - 1].compliance;
+  v.extrapolated_compliance = finest;
+  v.observed_order = NAN;
+  v.compliance_error_bar = NAN;
+  if (n == 1) return;
+  const double d2 = finest - v.levels[n - 2].compliance;
+  if (n >= 3) {
+    const double d1 = v.levels[n - 2].compliance - v.levels[n - 3].compliance;
+    if (d1 * d2 > 0 && std::abs(d2) < std::abs(d1)) {
+      v.observed_order = std::log2(d1 / d2);
+      v.extrapolated_compliance = finest + d2 / (std::exp2(v.observed_order) - 1);
+      v.compliance_error_bar = std::abs(v.extrapolated_compliance - finest);
+      return;
+    }
+    // Differences that change sign or grow: no asymptotic range seen, no extrapolation.
+    v.compliance_error_bar = std::max(std::abs(d1), std::abs(d2));
+    return;
+  }
+  v.extrapolated_compliance = finest + d2;  // first order assumed: the slowest a conforming mesh converges
+  v.compliance_error_bar = std::abs(d2);
+}
+
+namespace {
+
+}  // namespace
+
+Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
+                                    const SurfaceMesh& sim, std::span<const StencilParams> stencils,
+                                    FillRatioOptions fill) {
+  if (stencils.empty()) return Eigen::VectorXd::Ones(sim.num_faces());
   fill.derivatives = false;
-  const FaceBvh sim_bvh(meshes.sim);
-  FillRatioEvaluator eval(ctx.surface().bvh(), sim_bvh, ctx.shapes(), &ctx.surface().field(), fill);
+  const FaceBvh sim_bvh(sim);
+  FillRatioEvaluator eval(surface, sim_bvh, shapes, &field, fill);
   eval.evaluate(stencils);
   return eval.alpha();
+}
+
+Eigen::VectorXd design_fill_ratios(const PatternContext& ctx, const SceneMeshes& meshes,
+                                   std::span<const StencilParams> stencils, FillRatioOptions fill) {
+  return fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim, stencils, fill);
 }
 
 ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
@@ -119,6 +154,9 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     throw InputError(fmt::format("conforming edge length {} is not a positive length (m)", options.edge_length));
   if (options.levels < 1 || options.levels > 6)
     throw InputError(fmt::format("conforming levels {} out of range [1, 6]", options.levels));
+  if (!(options.tolerance >= 0) || !(options.tolerance < 1))
+    throw InputError(fmt::format("conforming tolerance {} out of range [0, 1)", options.tolerance));
+  if (options.max_faces < 1) throw InputError(fmt::format("conforming face budget {} is not positive", options.max_faces));
   ConformingVerification v;
   NewtonSettings settings = options.newton;
   settings.log = [&v](const std::string& line) { v.notes.push_back(line); };
@@ -133,9 +171,18 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     v.coarse.edge_length = meshes.sim.mean_edge_length();
   }
 
-  // 2. Conforming runs, coarsest first; the finest is kept for the comparison.
+  // 2. Conforming runs, coarsest first, until converged, out of levels or over the budget; the
+  // finest is kept for the comparison.
+  v.stop = "levels";
   for (int level = 0; level < options.levels; ++level) {
     const double L = options.edge_length / double(1 << level);
+    if (level > 0 && 4.0 * v.levels.back().faces > double(options.max_faces)) {
+      v.stop = "budget";
+      v.notes.push_back(fmt::format("conforming refinement stopped before L = {:.3g} m: about {} triangles would "
+                                    "exceed the budget of {}",
+                                    L, 4 * v.levels.back().faces, options.max_faces));
+      break;
+    }
     SurfaceMesh mesh = conforming_mesh(ctx, stencils, L, options.remesh_iterations);
     RunQuantities q;
     Eigen::VectorXd W;
@@ -146,30 +193,47 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       // the cut's boundary edges to round-off).
       const std::vector<bool> outer =
           boundary_vertices_on_boundary_of(mesh, meshes.base, 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm());
-      const LoadCase lc = resolve_load_case(scene, mesh, &outer);
+      const LoadCase lc = resolve_load_case(scene, mesh, &outer, &load_case);
       const ShellModel model(mesh, scene.material, lc, mechanics);
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }
     q.edge_length = L;
     v.levels.push_back(q);
-    if (level + 1 == options.levels) {
-      v.conforming_W = std::move(W);
-      v.conforming_displacement = std::move(u);
-      v.conforming_mesh = std::move(mesh);
+    v.conforming_W = std::move(W);
+    v.conforming_displacement = std::move(u);
+    v.conforming_mesh = std::move(mesh);
+    if (level > 0) {
+      const double c = v.levels[size_t(level)].compliance, c_prev = v.levels[size_t(level) - 1].compliance;
+      v.last_change = std::abs(c - c_prev) / std::abs(c);
+      if (options.tolerance > 0 && v.last_change < options.tolerance) {
+        v.converged = true;
+        v.stop = "tolerance";
+        break;
+      }
     }
   }
+  if (options.tolerance > 0 && !v.converged)
+    v.notes.push_back(fmt::format(
+        "the conforming compliance has not converged: it changed by {:.2g}% between the last two levels "
+        "(tolerance {:.2g}%); the extrapolated value's error bar says how far it may be",
+        100 * v.last_change, 100 * options.tolerance));
+  extrapolate_compliance(v);
 
   // 3. Comparison against the finest level.
   const RunQuantities& f = v.levels.back();
   v.compliance_ratio = ratio(v.coarse.compliance, f.compliance);
+  v.compliance_ratio_extrapolated = ratio(v.coarse.compliance, v.extrapolated_compliance);
   v.strain_energy_ratio = ratio(v.coarse.strain_energy, f.strain_energy);
   v.max_displacement_ratio = ratio(v.coarse.max_displacement, f.max_displacement);
   v.W_max_ratio = ratio(v.coarse.W_max, f.W_max);
   compare_energy_densities(meshes.sim, v);
+  // Dead loads carry the coarse totals by construction (resolve_load_case's match_totals); only
+  // self-weight differs, by the difference between Σ α A and the conforming material area.
   const double load_gap = (v.coarse.load_total - f.load_total).norm();
   if (load_gap > 0.01 * f.load_total.norm())
     v.notes.push_back(fmt::format("the loads differ: {:.4g} N in total on the coarse mesh, {:.4g} N on the "
-                                  "conforming one (area and edge loads over holes act on the coarse filler only)",
+                                  "conforming one (self-weight: the fill ratios' material area differs from "
+                                  "the cut mesh's)",
                                   v.coarse.load_total.norm(), f.load_total.norm()));
   return v;
 }

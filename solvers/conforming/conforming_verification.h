@@ -20,11 +20,21 @@
 /// boundary vertices or edges pick only the uncut surface's boundary (not the rims of the holes,
 /// which the coarse mesh does not have either).
 ///
-/// Levels: the conforming solve runs at L, L/2, …, L/2^(levels−1); the comparison uses the finest.
-/// Loads: self-weight is ρ h g per area of material on both meshes; area and edge loads are per
-/// area/length and follow the material that exists (on the coarse mesh they are dead loads on every
-/// selected face, holes included); point loads are totals split over the selected vertices. The
-/// totals of both runs are reported so that a difference is visible.
+/// Levels: the conforming solve runs at L, L/2, L/4, … until the compliance changes by less than
+/// `tolerance` between two levels (converged), `levels` solves have run, or the next level would
+/// exceed `max_faces` triangles (each level has about four times the last's). The comparison uses
+/// the finest level and the Richardson-extrapolated compliance: with the last three levels
+/// C₁, C₂, C₃ (edge lengths L, L/2, L/4) and d₁ = C₂ − C₁, d₂ = C₃ − C₂ of one sign and shrinking,
+/// the observed order is p = log₂(d₁/d₂) and C∞ = C₃ + d₂/(2^p − 1); with two levels, p = 1 is
+/// assumed (C∞ = 2C₂ − C₁, the slow end); when the differences change sign or grow, C∞ = C_finest.
+/// The error bar is |C∞ − C_finest|, at least the last difference when no order could be observed.
+/// Loads: self-weight is ρ h g per area of material on both meshes. Area, pressure and edge loads
+/// are integrated over their selector's region on each mesh and carry the coarse mesh's totals on
+/// the conforming one (resolve_load_case's match_totals): the share of a dead load that falls on a
+/// hole is carried by the material left in the region, evenly, while the coarse mesh lumps it to
+/// the vertices of the face it falls on. Point loads are totals spread over the surface inside
+/// their region on both meshes. The totals of both runs are reported.
+#include <cmath>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,7 +53,9 @@ namespace cutwork::solvers {
 
 struct ConformingOptions {
   double edge_length = 0;   ///< conforming target edge length L (m) at the coarsest level; > 0
-  int levels = 1;           ///< conforming solves at L, L/2, …; ≥ 1
+  int levels = 1;           ///< at most this many conforming solves at L, L/2, …; in [1, 6]
+  double tolerance = 0;     ///< stop once |C_k − C_{k−1}| / |C_k| < tolerance (0: run every level)
+  int max_faces = 400'000;  ///< refine no further when the next level would exceed this many triangles
   int remesh_iterations = 5;
   NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
 };
@@ -70,6 +82,14 @@ struct ConformingVerification {
   Eigen::VectorXi conforming_to_coarse;///< #F_conf: the coarse face each conforming face maps to
   Eigen::VectorXd W_on_coarse;         ///< #F_sim: W̄_t (NaN where nothing maps)
   std::vector<bool> compared;          ///< #F_sim: material faces that are compared
+  // Convergence of the conforming compliance over the levels (see the file comment).
+  bool converged = false;              ///< the last two levels differ by less than the tolerance
+  std::string stop;                    ///< "tolerance", "levels" (all run) or "budget" (max_faces)
+  double last_change = NAN;            ///< |C_k − C_{k−1}| / |C_k| of the last two levels (NaN: one level)
+  double extrapolated_compliance = NAN;///< C∞
+  double observed_order = NAN;         ///< p (NaN unless three levels converge monotonically)
+  double compliance_error_bar = NAN;   ///< |C∞ − C_finest| (see the file comment)
+  double compliance_ratio_extrapolated = NAN;  ///< coarse / C∞
   // Comparison (coarse / conforming, finest level).
   double compliance_ratio = 0, strain_energy_ratio = 0, max_displacement_ratio = 0;
   double W_max_ratio = 0;              ///< coarse W_max / conforming W_max (per conforming face)
@@ -81,6 +101,13 @@ struct ConformingVerification {
   int compared_faces = 0;
   std::vector<std::string> notes;
 };
+
+/// Fill ratios (#F of `sim`) of `stencils` placed on the surface `surface` (with `shapes` and the
+/// tangent `field`) on the simulation mesh `sim` (CPU kernels unless `fill` says otherwise;
+/// derivatives off). Ones without stencils.
+Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
+                                    const SurfaceMesh& sim, std::span<const StencilParams> stencils,
+                                    FillRatioOptions fill = {});
 
 /// Fill ratios (#F_sim) of `stencils` on the scene's simulation mesh, as the optimiser computes them
 /// (CPU kernels unless `fill` says otherwise; derivatives off).
@@ -94,5 +121,9 @@ Eigen::VectorXd design_fill_ratios(const PatternContext& ctx, const SceneMeshes&
 ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
                                          const PatternContext& ctx, std::span<const StencilParams> stencils,
                                          const ConformingOptions& options, FillRatioOptions fill = {});
+
+/// Fills v.extrapolated_compliance, observed_order and compliance_error_bar from v.levels (the rule
+/// of the file comment). Exposed for tests.
+void extrapolate_compliance(ConformingVerification& v);
 
 }  // namespace cutwork::solvers

@@ -10,6 +10,8 @@
 #include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
+#include "solvers/conforming/conforming_verification.h"
+#include "solvers/conforming/discretisation_estimate.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/report/run_report.h"
 
@@ -143,8 +145,30 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   const std::vector<StencilParams> final_params = layout_params(result.layout);
   out.cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params);
   info.timings.add("cut", sw.seconds());
+  json discretisation = nullptr;
+  if (info.discretisation_estimate) {
+    sw.restart();
+    const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
+    const RefinedSimulationMesh refined = refine_simulation_mesh(scene, meshes);
+    const double h = simulation_edge_length(scene, meshes);
+    const Eigen::VectorXd solid = Eigen::VectorXd::Ones(refined.mesh.num_faces());
+    const DiscretisationEstimate uncut =
+        estimate_discretisation(scene, refined, solid, mechanics, result.uncut.summary, h, meshes.sim.num_faces());
+    const Eigen::VectorXd alpha =
+        fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), refined.mesh, final_params);
+    const DiscretisationEstimate final_design = estimate_discretisation(
+        scene, refined, alpha, mechanics, result.final_design.summary, h, meshes.sim.num_faces());
+    discretisation = {{"uncut", discretisation_json(uncut)},
+                      {"final", discretisation_json(final_design)},
+                      {"converged", uncut.converged && final_design.converged},
+                      {"tolerance", kDiscretisationTolerance}};
+    if (!uncut.converged) info.notes.push_back("uncut shell: " + discretisation_line(uncut));
+    if (!final_design.converged) info.notes.push_back("final design: " + discretisation_line(final_design));
+    info.timings.add("discretisation", sw.seconds());
+  }
   info.timings.add("total", since_start.seconds());
   out.report = design_report(scene, meshes, ctx, result, out.cut, info);
+  if (!discretisation.is_null()) out.report["discretisation"] = discretisation;
   return out;
 }
 

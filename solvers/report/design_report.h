@@ -30,6 +30,10 @@ struct DesignRunInfo {
   Timings timings;                 ///< stages before run_design (scene, meshes, device, ...)
   nlohmann::json device = nullptr; ///< report.json's device {kind, name, driver}; null: left out
   std::vector<std::string> notes;  ///< the report's notes (automatic choices, adjustments)
+  /// Re-solve the uncut shell and the final design at half the simulation edge length and report
+  /// how far from converged the numbers are (report.json `discretisation`,
+  /// solvers/conforming/discretisation_estimate.h); a note says when they are not.
+  bool discretisation_estimate = true;
 };
 
 /// A finished design, computed in full and ready to be written. It refers to the scene's meshes,
@@ -72,7 +76,7 @@ std::vector<std::string> design_output_names(const DesignOutputs& outputs);
 /// rounds, seconds, J/S/P at start and end, stop_reason, objective}], pattern, structure
 /// {objective, w_S, beta, W_max/compliance/material_fraction/max_displacement of the designs,
 /// overlaps, units, ...}, equilibrium (the final design's), designs {uncut, pattern, final},
-/// cut, timings.stages, notes.
+/// cut, timings.stages, discretisation {uncut, final, converged, tolerance} (when estimated), notes.
 nlohmann::json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternContext& ctx,
                              const DesignResult& result, const CutSurface& cut, const DesignRunInfo& info);
 

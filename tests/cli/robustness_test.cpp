@@ -140,6 +140,10 @@ TEST(CliRobustness, CheckRejectsWhatDesignRejects) {
       {"sim_edge_length.json", {"/mesh", "sim_edge_length must be"}},
       {"missing_sizing_file.json", {"missing_sizing.txt", "no such file"}},
       {"not_an_stl.stl", {"not_an_stl.stl", "cannot be parsed: not an STL file", "facets"}},
+      // Header counts that lie (issue 22): checked against the file's size before anything is read.
+      {"huge_face_count.off", {"huge_face_count.off", "declares 9223372036854775807 faces"}},
+      {"huge_vertex_count_binary.ply", {"declares 9223372036854775807 vertex elements"}},
+      {"huge_facet_count.stl", {"declaring 4294967295 facets"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);

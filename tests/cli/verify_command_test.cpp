@@ -46,7 +46,7 @@ fs::path sheet_design(const fs::path& dir, const std::string& stiffness = "linea
 TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   const fs::path dir = test::temp_dir("verify");
   const fs::path design = sheet_design(dir);
-  const auto r = run_cutwork("verify " + design.string() + " --edge-length 0.06 --levels 3 --quiet");
+  const auto r = run_cutwork("verify " + design.string() + " --edge-length 0.06 --levels 3 --tolerance 0 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = read_json(design / "verify" / "report.json");
   EXPECT_EQ(report["scene"], "sheet");

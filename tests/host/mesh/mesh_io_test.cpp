@@ -420,8 +420,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "data continues after the elements declared in the PLY header (3 vertex, 1 face): "
                 "wrong element count?"},
         BadFile{"truncated.ply",
-                "the file ends inside vertex 4 of the 5 declared in the PLY header (truncated file "
-                "or wrong element count)"},
+                "the PLY header declares 5 vertex elements, but the 26 bytes of data after the header hold "
+                "at most 4 (at least 6 bytes each; truncated file or wrong element count)"},
         BadFile{"no_end_header.ply", "PLY header has no end_header line (truncated or not a PLY file)"},
         BadFile{"bare_property.ply", "PLY header line 7 'property': expected 'property <type> <name>'"},
         BadFile{"comment_only.off", "no OFF header (the file holds only blank or comment lines)"},
@@ -431,13 +431,125 @@ INSTANTIATE_TEST_SUITE_P(
                 "the file ends before the 4 vertices and 1 faces declared in the OFF header (4 data "
                 "lines found; truncated file or wrong counts)"},
         BadFile{"ten_corners.off",
-                "face 0 has 10 vertices; OFF faces with more than 9 are not supported"}),
+                "face 0 has 10 vertices; OFF faces with more than 9 are not supported"},
+        // Header counts beyond what the file can hold (issue 22: the face count crashed the OFF
+        // check), refused before anything is read or allocated for them. A 7x7 grid each:
+        // 49 vertices, 36 quads (OFF) or 72 triangles (PLY, STL).
+        BadFile{"huge_face_count.off",
+                "the OFF header declares 9223372036854775807 faces, but the file has only 85 data lines "
+                "(truncated file or wrong counts)"},
+        BadFile{"huge_vertex_count.off",
+                "the OFF header declares 9223372036854775807 vertices, but the file has only 85 data lines "
+                "(truncated file or wrong counts)"},
+        BadFile{"huge_face_count_ascii.ply",
+                "the PLY header declares 9223372036854775807 face elements, but the 1221 bytes of data after "
+                "the header hold at most 611 (at least 2 bytes each; truncated file or wrong element count)"},
+        BadFile{"huge_vertex_count_ascii.ply",
+                "the PLY header declares 9223372036854775807 vertex elements, but the 1221 bytes of data after "
+                "the header hold at most 203 (at least 6 bytes each; truncated file or wrong element count)"},
+        BadFile{"huge_face_count_binary.ply",
+                "the PLY header declares 9223372036854775807 face elements, but the 1524 bytes of data after "
+                "the header hold at most 1524 (at least 1 byte each; truncated file or wrong element count)"},
+        BadFile{"huge_vertex_count_binary.ply",
+                "the PLY header declares 9223372036854775807 vertex elements, but the 1524 bytes of data after "
+                "the header hold at most 127 (at least 12 bytes each; truncated file or wrong element count)"},
+        BadFile{"huge_element_without_properties.ply",
+                "the PLY header declares 9223372036854775807 padding elements without properties, more than "
+                "the 1221 bytes of data after the header (wrong element count?)"},
+        BadFile{"huge_facet_count.stl",
+                "cannot be parsed: not an STL file: an ASCII STL starts with 'solid', and a binary STL "
+                "declaring 4294967295 facets would be 214748364834 bytes long, not 3684"}),
     [](const ::testing::TestParamInfo<BadFile>& info) {
       std::string n = info.param.name;
       for (char& c : n)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return n;
     });
+
+TEST(ReadMesh, HeaderCountsAreCheckedAgainstTheFileSize) {
+  // Every count of a small OFF, ASCII and binary PLY set to extreme values: one InputError naming
+  // the file each time, never a crash, a hang or an allocation of the declared size (issue 22).
+  const fs::path dir = test::temp_dir("mesh-io-header-counts");
+  const std::vector<std::string> counts = {"5", "2147483647", "2147483648", "4294967295", "4294967296",
+                                           "4294967300", "9223372036854775807", "9223372036854775808",
+                                           "18446744073709551615", "-1"};
+  auto expect_refused = [&](const fs::path& file) {
+    SCOPED_TRACE(slurp(file).substr(0, 120));
+    try {
+      read_mesh(file);
+      ADD_FAILURE() << file << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(file.string() + ": ", 0), 0u) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  };
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  for (const std::string& c : counts) {
+    spit(dir / "v.off", "OFF\n" + c + " 4 0\n" + vertices + "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n");
+    expect_refused(dir / "v.off");
+    spit(dir / "f.off", "OFF\n4 " + c + " 0\n" + vertices + "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n");
+    expect_refused(dir / "f.off");
+    for (const char* format : {"ascii", "binary_little_endian"}) {
+      const bool ascii = std::string(format) == "ascii";
+      std::string body;
+      if (ascii) {
+        body = vertices + "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+      } else {
+        auto put = [&](auto x) { body.append(reinterpret_cast<const char*>(&x), sizeof(x)); };
+        const auto t = test::tetrahedron();
+        for (int i = 0; i < 4; ++i)
+          for (int k = 0; k < 3; ++k) put(float(t.vertices(i, k)));
+        for (int i = 0; i < 4; ++i) {
+          put(std::uint8_t(3));
+          for (int k = 0; k < 3; ++k) put(std::int32_t(t.faces(i, k)));
+        }
+      }
+      for (int which : {0, 1, 2}) {
+        const std::string header =
+            std::string("ply\nformat ") + format + " 1.0\nelement vertex " + (which == 0 ? c : "4") +
+            "\nproperty float x\nproperty float y\nproperty float z\nelement face " + (which == 1 ? c : "4") +
+            "\nproperty list uchar int vertex_indices\n" + (which == 2 ? "element empty " + c + "\n" : "") +
+            "end_header\n";
+        spit(dir / "e.ply", header + body);
+        if (which == 2 && c == "5") {  // five items of nothing fit: read as before
+          expect_tetrahedron(read_mesh(dir / "e.ply"));
+          continue;
+        }
+        expect_refused(dir / "e.ply");
+      }
+    }
+  }
+  // A list length beyond the bytes left is a truncated file (not a loop up to the length).
+  spit(dir / "list.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+       "element face 1\nproperty list uint int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n999999999 0 1 2\n");
+  try {
+    read_mesh(dir / "list.ply");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "list.ply").string() +
+                                         ": the file ends inside face 0 of the 1 declared in the PLY header "
+                                         "(truncated file or wrong element count)");
+  }
+  // The OFF counts each fit, together they do not: the combined message, no overflow.
+  spit(dir / "sum.off", "OFF\n4 4 0\n" + vertices + "3 0 2 1\n3 0 1 3\n3 1 2 3\n");
+  try {
+    read_mesh(dir / "sum.off");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "sum.off").string() +
+                                         ": the file ends before the 4 vertices and 4 faces declared in the OFF "
+                                         "header (7 data lines found; truncated file or wrong counts)");
+  }
+  // A binary STL whose count says 0xFFFFFFFF facets (also from a header starting "solid").
+  const auto t = test::tetrahedron();
+  std::string stl = binary_stl(t.vertices, t.faces, 0xFFFFFFFFu);
+  spit(dir / "count.stl", stl);
+  expect_refused(dir / "count.stl");
+  stl.replace(0, 5, "solid");
+  spit(dir / "solid.stl", stl);
+  expect_refused(dir / "solid.stl");
+}
 
 TEST(ReadMesh, DirectoryAndUnreadableFile) {
   const fs::path dir = test::temp_dir("mesh-io-dir");

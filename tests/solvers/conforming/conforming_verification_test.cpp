@@ -106,5 +106,75 @@ TEST(ConformingVerification, RejectsBadOptions) {
   EXPECT_THROW(verify_conforming(scene, meshes, lc, ctx, {}, o), InputError);
 }
 
+TEST(ConformingVerification, RichardsonRecoversTheLimitAndTheOrder) {
+  // C(L) = C∞ + a L^p at L = 1, 1/2, 1/4: the limit and p back to round-off.
+  for (double p : {1.0, 1.5, 2.0}) {
+    ConformingVerification v;
+    for (int k = 0; k < 3; ++k) {
+      RunQuantities q;
+      q.compliance = 3.0 - 0.7 * std::pow(0.5, k * p);
+      v.levels.push_back(q);
+    }
+    extrapolate_compliance(v);
+    EXPECT_NEAR(v.observed_order, p, 1e-12);
+    EXPECT_NEAR(v.extrapolated_compliance, 3.0, 1e-12);
+    EXPECT_NEAR(v.compliance_error_bar, 0.7 * std::pow(0.25, p), 1e-12);
+  }
+  // Two levels: first order assumed (the slow end), the last difference as the error bar.
+  ConformingVerification two;
+  two.levels.resize(2);
+  two.levels[0].compliance = 1.0, two.levels[1].compliance = 1.1;
+  extrapolate_compliance(two);
+  EXPECT_TRUE(std::isnan(two.observed_order));
+  EXPECT_NEAR(two.extrapolated_compliance, 1.2, 1e-15);
+  EXPECT_NEAR(two.compliance_error_bar, 0.1, 1e-15);
+  // Differences that change sign: no extrapolation, the larger difference as the error bar.
+  ConformingVerification osc;
+  osc.levels.resize(3);
+  osc.levels[0].compliance = 1.0, osc.levels[1].compliance = 1.1, osc.levels[2].compliance = 1.05;
+  extrapolate_compliance(osc);
+  EXPECT_TRUE(std::isnan(osc.observed_order));
+  EXPECT_EQ(osc.extrapolated_compliance, 1.05);
+  EXPECT_NEAR(osc.compliance_error_bar, 0.1, 1e-15);
+}
+
+TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBracketsAFinerRun) {
+  // The sheet under self-weight with one hole of radius 0.2: four conforming levels from L = 0.08.
+  const Scene scene = scene_at("sheet", 0.05, 0.1);
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  const PatternContext ctx(scene, meshes);
+  const std::vector<StencilParams> stencils{circle_at(0.1, -0.05, 0.2)};
+  ConformingOptions o;
+  o.edge_length = 0.08;
+  o.levels = 4;
+  const ConformingVerification all = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  ASSERT_EQ(all.levels.size(), 4u);
+  EXPECT_EQ(all.stop, "levels");
+  // Extrapolating from the first three levels: the fourth lies within the error bar.
+  ConformingVerification three;
+  three.levels.assign(all.levels.begin(), all.levels.begin() + 3);
+  extrapolate_compliance(three);
+  ASSERT_TRUE(std::isfinite(three.compliance_error_bar));
+  EXPECT_LE(std::abs(all.levels[3].compliance - three.extrapolated_compliance), three.compliance_error_bar)
+      << all.levels[2].compliance << " -> " << three.extrapolated_compliance << " ± " << three.compliance_error_bar
+      << ", finer " << all.levels[3].compliance;
+  // With a tolerance the loop stops at the first level that changes by less, and says so.
+  const double change_2 = std::abs(all.levels[2].compliance - all.levels[1].compliance) / all.levels[2].compliance;
+  o.tolerance = 1.01 * change_2;
+  const ConformingVerification stopped = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  EXPECT_TRUE(stopped.converged);
+  EXPECT_EQ(stopped.stop, "tolerance");
+  EXPECT_LE(stopped.levels.size(), 3u);
+  EXPECT_LT(stopped.last_change, o.tolerance);
+  // A face budget below the next level's stops before it.
+  o.tolerance = 0;
+  o.max_faces = 3 * all.levels[1].faces;
+  const ConformingVerification budget = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  EXPECT_EQ(budget.levels.size(), 2u);
+  EXPECT_EQ(budget.stop, "budget");
+  EXPECT_FALSE(budget.converged);
+}
+
 }  // namespace
 }  // namespace cutwork::solvers

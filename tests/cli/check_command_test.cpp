@@ -1,0 +1,93 @@
+// `cutwork check`: the uncut shell's equilibrium is part of the check, so a load the shell cannot
+// carry is found before any design work, with the message design and simulate give.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+
+#include <fmt/format.h>
+
+#include "host/scene/scene.h"
+#include "tests/support/test_support.h"
+
+namespace cutwork {
+namespace {
+namespace fs = std::filesystem;
+using test::run_cutwork;
+
+/// A 1.7 m canopy: the paraboloid z = 0.5((x/L + 1/2)² + (y/L)²) over a square of side L on an
+/// n×n grid, lowest at the middle of one side.
+void write_canopy(const fs::path& file, int n = 24) {
+  std::ofstream out(file);
+  const double L = 1.7;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -L / 2 + L * i / n, y = -L / 2 + L * j / n;
+      out << fmt::format("v {:.9g} {:.9g} {:.9g}\n", x, y, 0.5 * ((x / L + 0.5) * (x / L + 0.5) + (y / L) * (y / L)));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int v = j * (n + 1) + i + 1;
+      out << fmt::format("f {} {} {}\nf {} {} {}\n", v, v + 1, v + n + 2, v, v + n + 2, v + n + 1);
+    }
+}
+
+/// The canopy in PA12 of `thickness`, pinned where z < 0.01 (a few vertices at the middle of
+/// one side), under self-weight and 5 N on a 0.1 m patch at the far side.
+fs::path canopy_scene(const fs::path& dir, double thickness) {
+  write_canopy(dir / "canopy.obj");
+  const fs::path scene = dir / fmt::format("canopy_{}.json", thickness);
+  std::ofstream(scene) << fmt::format(R"({{
+  "mesh": {{"file": "canopy.obj"}},
+  "material": {{"youngs_modulus": 1.7e9, "poisson_ratio": 0.4, "thickness": {}, "density": 1010}},
+  "supports": [{{"type": "pinned", "select": {{"entity": "vertices", "z": {{"below": 0.01}}}}}}],
+  "loads": [{{"type": "self_weight"}},
+            {{"type": "point", "force": [0, 0, -5], "select": {{"near": {{"point": [0.85, 0, 0.5], "radius": 0.1}}}}}}],
+  "stencils": [{{"name": "circle", "kind": "circle"}}]
+}})",
+                                                    thickness);
+  return scene;
+}
+
+int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(CheckCommand, EveryBuiltinSceneCarriesItsLoadUncut) {
+  for (const auto& b : builtin_scenes()) {
+    SCOPED_TRACE(b.name);
+    const auto r = run_cutwork("check " + b.name);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("uncut equilibrium: carries the whole load; compliance "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\nok\n"), std::string::npos) << r.out;
+  }
+}
+
+TEST(CheckCommand, ALoadTheUncutShellCannotCarryIsExitTwoWithTheCarriedFraction) {
+  const fs::path dir = test::temp_dir("check_canopy");
+  // 3 mm carries the load (the control: the same scene, only thinner, fails).
+  const auto thick = run_cutwork("check " + canopy_scene(dir, 0.006).string());
+  ASSERT_EQ(thick.exit_code, 0) << thick.err;
+  EXPECT_NE(thick.out.find("carries the whole load"), std::string::npos) << thick.out;
+
+  const fs::path scene = canopy_scene(dir, 0.002);
+  const auto r = run_cutwork("check " + scene.string());
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_EQ(r.out, "") << "nothing printed before the error";
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.err, m, std::regex(R"(can carry only ([0-9.]+)% of the load)"))) << r.err;
+  const double fraction = std::stod(m[1]);
+  EXPECT_GT(fraction, 0.0);
+  EXPECT_LT(fraction, 100.0);
+  // The same line as the pipeline's own uncut equilibrium (simulate solves it first, as design does).
+  const auto sim = run_cutwork("simulate " + scene.string() + " --no-render --out " + (dir / "sim").string());
+  EXPECT_EQ(sim.exit_code, 2) << sim.err;
+  EXPECT_EQ(sim.err, r.err);
+  EXPECT_FALSE(fs::exists(dir / "sim" / "report.json"));
+  // --no-equilibrium validates only.
+  const auto only = run_cutwork("check --no-equilibrium " + scene.string());
+  EXPECT_EQ(only.exit_code, 0) << only.err;
+  EXPECT_NE(only.out.find("uncut equilibrium: not solved (--no-equilibrium)"), std::string::npos) << only.out;
+}
+
+}  // namespace
+}  // namespace cutwork

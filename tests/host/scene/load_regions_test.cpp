@@ -1,0 +1,271 @@
+// Loads integrated over selector regions (host/scene/load_regions.h): the region integrals against
+// closed forms and a brute-force quadrature twin, and the loads of resolve_load_case against mesh
+// refinement, jittered meshes and a matched load case.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include "host/core/error.h"
+#include "host/mesh/surface_mesh.h"
+#include "host/scene/load_regions.h"
+#include "host/scene/scene.h"
+
+namespace cutwork {
+namespace {
+
+using nlohmann::json;
+constexpr double kPi = std::numbers::pi;
+
+Selector ball(const Vec3& c, double r) {
+  Selector s;
+  s.near_point = c;
+  s.near_radius = r;
+  return s;
+}
+
+/// Brute-force twin: the triangle split into n² similar triangles, each counted whole when its
+/// centroid is inside the region (error O(1/n) of the region's boundary length).
+RegionMoment brute_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Selector& sel, int n) {
+  auto inside = [&](const Vec3& x) {
+    for (int k = 0; k < 3; ++k)
+      if (!(x[k] > sel.above[k] && x[k] < sel.below[k])) return false;
+    return !sel.near_point || !std::isfinite(sel.near_radius) || (x - *sel.near_point).norm() <= sel.near_radius;
+  };
+  RegionMoment m;
+  const double sub_area = 0.5 * (b - a).cross(c - a).norm() / double(n * n);
+  auto point = [&](double i, double j) { return Vec3(a + (b - a) * (i / n) + (c - a) * (j / n)); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      const Vec3 g1 = (point(i, j) + point(i + 1, j) + point(i, j + 1)) / 3.0;
+      if (inside(g1)) m.measure += sub_area, m.first_moment += sub_area * g1;
+      if (i + j + 2 <= n) {
+        const Vec3 g2 = (point(i + 1, j) + point(i, j + 1) + point(i + 1, j + 1)) / 3.0;
+        if (inside(g2)) m.measure += sub_area, m.first_moment += sub_area * g2;
+      }
+    }
+  return m;
+}
+
+TEST(LoadRegions, DiscInsideATriangleIsTheDisc) {
+  // A tilted triangle; the ball's centre sits 0.03 off its plane, so the disc has radius
+  // √(0.1² − 0.03²) around the centre's projection.
+  const Vec3 a(0, 0, 0), b(2, 0, 1), c(0, 2, 0.5);
+  const Vec3 n = (b - a).cross(c - a).normalized();
+  const Vec3 o = (a + b + c) / 3.0;
+  const RegionMoment m = triangle_in_region(a, b, c, ball(o + 0.03 * n, 0.1));
+  const double R2 = 0.1 * 0.1 - 0.03 * 0.03;
+  EXPECT_NEAR(m.measure, kPi * R2, 1e-14);
+  EXPECT_NEAR((m.first_moment / m.measure - o).norm(), 0, 1e-13);
+  // Off the plane by more than the radius: nothing.
+  EXPECT_EQ(triangle_in_region(a, b, c, ball(o + 0.11 * n, 0.1)).measure, 0);
+}
+
+TEST(LoadRegions, HalfDiscAtAnEdgeHasItsClosedFormCentroid) {
+  // Centre on the edge y = 0 of a large triangle: half the disc, centroid 4R/(3π) inside.
+  const Vec3 a(-1, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const double R = 0.2;
+  const RegionMoment m = triangle_in_region(a, b, c, ball(Vec3(0, 0, 0), R));
+  EXPECT_NEAR(m.measure, 0.5 * kPi * R * R, 1e-14);
+  const Vec3 g = m.first_moment / m.measure;
+  EXPECT_NEAR(g.x(), 0, 1e-14);
+  EXPECT_NEAR(g.y(), 4 * R / (3 * kPi), 1e-14);
+  // A box that keeps x > 0 leaves the quarter disc.
+  Selector q = ball(Vec3(0, 0, 0), R);
+  q.above[0] = 0;
+  const RegionMoment mq = triangle_in_region(a, b, c, q);
+  EXPECT_NEAR(mq.measure, 0.25 * kPi * R * R, 1e-14);
+  EXPECT_NEAR(mq.first_moment.x() / mq.measure, 4 * R / (3 * kPi), 1e-14);
+}
+
+TEST(LoadRegions, TriangleInsideTheRegionIsWhole) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const RegionMoment m = triangle_in_region(a, b, c, ball(Vec3(0.3, 0.3, 0), 5));
+  EXPECT_DOUBLE_EQ(m.measure, 0.5);
+  const Vec3 w = triangle_nodal_weights(a, b, c, m);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(w[k], 0.5 / 3, 1e-15);
+}
+
+TEST(LoadRegions, RandomTrianglesAgreeWithTheBruteForceTwin) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto rv = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+  int nonempty = 0, clipped = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const Vec3 a = rv(), b = rv(), c = rv();
+    Selector sel;
+    for (int k = 0; k < 3; ++k) {
+      if (trial % 2) sel.above[k] = 0.6 * u(rng) - 0.3;
+      if (trial % 3) sel.below[k] = sel.above[k] > -1 ? sel.above[k] + 0.8 : 0.5 * u(rng);
+    }
+    if (trial % 4 != 3) sel.near_point = rv() * 0.5, sel.near_radius = 0.3 + 0.5 * std::abs(u(rng));
+    const RegionMoment exact = triangle_in_region(a, b, c, sel);
+    const RegionMoment brute = brute_triangle(a, b, c, sel, 600);
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    SCOPED_TRACE(trial);
+    // O(1/n) of the triangle's area, with the boundary of the region crossing it.
+    EXPECT_NEAR(exact.measure, brute.measure, 4e-3 * area);
+    EXPECT_NEAR((exact.first_moment - brute.first_moment).norm(), 0, 4e-3 * area * 2);
+    nonempty += exact.measure > 0;
+    clipped += exact.measure > 0 && exact.measure < area * (1 - 1e-9);
+    // The nodal weights sum to the measure and reproduce the first moment (N_i is linear).
+    const Vec3 w = triangle_nodal_weights(a, b, c, exact);
+    EXPECT_NEAR(w.sum(), exact.measure, 1e-14);
+    EXPECT_NEAR((w[0] * a + w[1] * b + w[2] * c - exact.first_moment).norm(), 0, 1e-13);
+  }
+  EXPECT_GT(clipped, 20) << "the trials must cut triangles, not only take or miss them whole";
+  EXPECT_GT(nonempty, clipped);
+}
+
+TEST(LoadRegions, SegmentsAreClippedExactly) {
+  Selector sel = ball(Vec3(0, 0, 0), 1);
+  sel.above[0] = 0;
+  // The x axis from −2 to 2: inside for 0 < x ≤ 1.
+  const RegionMoment m = segment_in_region(Vec3(-2, 0, 0), Vec3(2, 0, 0), sel);
+  EXPECT_NEAR(m.measure, 1, 1e-15);
+  EXPECT_NEAR(m.first_moment.x(), 0.5, 1e-15);
+  const auto w = segment_nodal_weights(Vec3(-2, 0, 0), Vec3(2, 0, 0), m);
+  EXPECT_NEAR(w[0] + w[1], 1, 1e-15);
+  EXPECT_NEAR(-2 * w[0] + 2 * w[1], 0.5, 1e-15);
+  // Parallel to a bound and outside it: nothing; a chord missing the ball: nothing.
+  EXPECT_EQ(segment_in_region(Vec3(-1, -2, 0), Vec3(-1, 2, 0), sel).measure, 0);
+  EXPECT_EQ(segment_in_region(Vec3(0.5, 2, 0), Vec3(0.5, 2, 1), sel).measure, 0);
+}
+
+// ---- loads through resolve_load_case --------------------------------------------------------
+
+/// The unit square [−0.5, 0.5]², n×n cells split into two triangles each, interior vertices moved
+/// by up to `jitter` of a cell in the plane (the surface stays the same square).
+SurfaceMesh square(int n, double jitter, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-jitter, jitter);
+  RowMatX3d V((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      double x = double(i) / n - 0.5, y = double(j) / n - 0.5;
+      if (i > 0 && i < n) x += u(rng) / n;
+      if (j > 0 && j < n) y += u(rng) / n;
+      V.row(j * (n + 1) + i) = Vec3(x, y, 0).transpose();
+    }
+  RowMatX3i F(2 * n * n, 3);
+  int f = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int v = j * (n + 1) + i;
+      if ((i + j) % 2) {
+        F.row(f++) << v, v + 1, v + n + 2;
+        F.row(f++) << v, v + n + 2, v + n + 1;
+      } else {
+        F.row(f++) << v, v + 1, v + n + 1;
+        F.row(f++) << v + 1, v + n + 2, v + n + 1;
+      }
+    }
+  return SurfaceMesh(V, F, "square");
+}
+
+Scene loaded_square_scene() {
+  return parse_scene(json::parse(R"({
+    "mesh": {"generator": "sheet"},
+    "supports": [{"type": "pinned", "select": {"entity": "boundary_vertices"}}],
+    "loads": [
+      {"type": "area", "force": [0, 0, -1500], "select": {"entity": "faces", "x": {"above": -0.137}, "y": {"above": 0.0731, "below": 0.4137}}},
+      {"type": "point", "force": [3, 0, -20], "select": {"near": {"point": [0.0123, -0.171, 0.01], "radius": 0.0377}}},
+      {"type": "pressure", "pressure": 250, "select": {"entity": "faces", "near": {"point": [-0.2, -0.2, 0], "radius": 0.13}}},
+      {"type": "edge", "force": [0, 40, 0], "select": {"entity": "boundary_edges", "x": {"above": 0.2113}}}
+    ]})"),
+                     "test.json");
+}
+
+/// Σ F_i and Σ F_i × x_i: the total and the moment of the nodal forces.
+std::pair<Vec3, Vec3> total_and_moment(const SurfaceMesh& mesh, const RowMatX3d& forces) {
+  Vec3 total = Vec3::Zero(), moment = Vec3::Zero();
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3 f = forces.row(v).transpose();
+    total += f;
+    moment += Vec3(mesh.vertices().row(v).transpose()).cross(f);
+  }
+  return {total, moment};
+}
+
+TEST(LoadRegions, LoadsDoNotDependOnTheMesh) {
+  const Scene scene = loaded_square_scene();
+  // Closed forms: area 1500 N/m² over 0.637 × 0.3406 m; point 20 N down, 3 N along x; pressure
+  // 250 Pa on the disc of radius 0.13 around (−0.2, −0.2), inside the square, along its normal;
+  // edge 40 N/m along x ∈ (0.2113, 0.5] of both sides y = ±0.5 and the whole side x = 0.5.
+  const double area_load = 1500 * (0.5 + 0.137) * (0.4137 - 0.0731);
+  const double pressure_load = 250 * kPi * 0.13 * 0.13;
+  const double edge_load = 40 * (2 * (0.5 - 0.2113) + 1.0);
+  const SurfaceMesh reference = square(8, 0, 1);
+  const LoadCase ref = resolve_load_case(scene, reference);
+  const auto [ref_total, ref_moment] = total_and_moment(reference, ref.forces);
+  const double normal_sign = reference.face_normals()(0, 2);
+  EXPECT_NEAR(ref_total.z(), -area_load - 20 + normal_sign * pressure_load, 1e-9 * area_load);
+  EXPECT_NEAR(ref_total.x(), 3, 1e-12);
+  EXPECT_NEAR(ref_total.y(), edge_load, 1e-12 * edge_load);
+  EXPECT_NEAR(ref.load_measures[0], (0.5 + 0.137) * (0.4137 - 0.0731), 1e-15);
+  EXPECT_NEAR(ref.load_measures[1], kPi * (0.0377 * 0.0377 - 0.01 * 0.01), 1e-15);
+  for (int n : {3, 5, 13, 32}) {
+    for (double jitter : {0.0, 0.2}) {
+      SCOPED_TRACE(::testing::Message() << n << " cells, jitter " << jitter);
+      const SurfaceMesh mesh = square(n, jitter, unsigned(n));
+      ASSERT_GT(mesh.face_normals().col(2).minCoeff(), 0) << "no face turned over: the mesh covers the square once";
+      const LoadCase lc = resolve_load_case(scene, mesh);
+      const auto [total, moment] = total_and_moment(mesh, lc.forces);
+      // Same total and moment to round-off (consistent nodal forces reproduce both exactly).
+      EXPECT_NEAR((total - ref_total).norm(), 0, 1e-9 * ref_total.norm());
+      EXPECT_NEAR((moment - ref_moment).norm(), 0, 1e-9 * ref_total.norm());
+      for (size_t i = 0; i < scene.loads.size(); ++i)
+        EXPECT_NEAR(lc.load_measures[i], ref.load_measures[i], 1e-12) << "load " << i;
+    }
+  }
+}
+
+TEST(LoadRegions, MatchedTotalsCarryTheLoadOverHoles) {
+  // The square with a 0.2 × 0.2 hole inside the area load's region, as a cut mesh would have it:
+  // the faces of an 10×10 grid whose centroids fall in the hole are removed.
+  const Scene scene = loaded_square_scene();
+  const SurfaceMesh full = square(10, 0, 1);
+  const LoadCase coarse = resolve_load_case(scene, full);
+  RowMatX3i kept(full.num_faces(), 3);
+  int k = 0;
+  for (int f = 0; f < full.num_faces(); ++f) {
+    Vec3 g = Vec3::Zero();
+    for (int c = 0; c < 3; ++c) g += full.vertices().row(full.faces()(f, c)).transpose() / 3.0;
+    if (g.x() > -0.1 && g.x() < 0.1 && g.y() > 0.1 && g.y() < 0.3) continue;
+    kept.row(k++) = full.faces().row(f);
+  }
+  const SurfaceMesh holed(full.vertices(), kept.topRows(k), "holed");
+  const LoadCase unmatched = resolve_load_case(scene, holed);
+  EXPECT_LT(unmatched.load_measures[0], coarse.load_measures[0] - 0.03);  // the hole's 0.04 m², partly
+  const LoadCase matched = resolve_load_case(scene, holed, nullptr, &coarse);
+  const Vec3 t_coarse = coarse.forces.colwise().sum().transpose();
+  const Vec3 t_matched = matched.forces.colwise().sum().transpose();
+  const Vec3 t_unmatched = unmatched.forces.colwise().sum().transpose();
+  EXPECT_NEAR((t_matched - t_coarse).norm(), 0, 1e-9 * t_coarse.norm());
+  EXPECT_GT((t_unmatched - t_coarse).norm(), 40.0);  // 1500 N/m² on the hole's area is missing
+  EXPECT_EQ(matched.load_measures, coarse.load_measures);
+  // The patch load (point) is a total on both meshes without matching.
+  EXPECT_NEAR(unmatched.load_measures[1], coarse.load_measures[1], 1e-15);
+}
+
+TEST(LoadRegions, ARegionWithoutSurfaceIsAnError) {
+  json d = json::parse(R"({
+    "mesh": {"generator": "sheet", "edge_length": 0.1},
+    "supports": [{"type": "pinned", "select": {"entity": "boundary_vertices"}}],
+    "loads": [{"type": "point", "force": [0, 0, -1], "select": {"near": {"point": [0, 0, 0.5], "radius": 0.2}}}]})");
+  const Scene s = parse_scene(d, "test.json");
+  const SceneMeshes m = build_scene_meshes(s);
+  try {
+    resolve_load_case(s, m.sim);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/loads/0/select: its region holds no surface area"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace cutwork
