@@ -282,7 +282,7 @@ void run_design_command(const DesignCommandOptions& opts) {
                   disc.is_null() ? std::string()
                                  : fmt::format("; compliance {:.4g} J, estimated discretisation error {:.1f}%{}",
                                                r.final_design.summary.compliance,
-                                               100 * disc["final"]["estimated_error"].get<double>(),
+                                               100 * disc["final"].value("estimated_error", NAN),
                                                disc["converged"].get<bool>() ? "" : " (not converged)"),
                   files_written(out, solvers::design_output_names(design))));
 }

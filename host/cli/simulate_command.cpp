@@ -161,11 +161,13 @@ void run_simulate(const SimulateOptions& opts) {
   std::optional<solvers::DiscretisationEstimate> estimate;
   if (!opts.no_discretisation_estimate) {
     sw.restart();
-    const solvers::RefinedSimulationMesh refined = solvers::refine_simulation_mesh(scene, meshes);
-    const Eigen::VectorXd refined_alpha = solvers::fill_ratios_on_mesh(surface.bvh(), surface.shapes(), surface.field(),
-                                                                       refined.mesh, stencils, fill_options);
-    estimate = solvers::estimate_discretisation(scene, refined, refined_alpha, model.mechanics(), summary,
-                                                solvers::simulation_edge_length(scene, meshes), model.num_faces());
+    estimate = solvers::estimate_discretisation(
+        scene, solvers::refine_simulation_mesh(scene, meshes),
+        [&](const SurfaceMesh& m) {
+          return solvers::fill_ratios_on_mesh(surface.bvh(), surface.shapes(), surface.field(), m, stencils,
+                                              fill_options);
+        },
+        model.mechanics(), summary, solvers::simulation_edge_length(scene, meshes), model.num_faces());
     timings.add("discretisation", sw.seconds());
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
   }

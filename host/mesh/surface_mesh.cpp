@@ -264,6 +264,20 @@ RowMatX3d area_weighted_vertex_normals(const RowMatX3i& F, const RowMatX3d& weig
 }
 
 /// Connected components of the faces through interior edges.
+std::vector<int> label_components(const RowMatX2i& edge_faces, int nf) {
+  DisjointSets sets(nf);
+  for (int e = 0; e < int(edge_faces.rows()); ++e)
+    if (edge_faces(e, 1) >= 0) sets.unite(edge_faces(e, 0), edge_faces(e, 1));
+  std::vector<int> label(size_t(nf), -1), root_label(size_t(nf), -1);
+  int next = 0;
+  for (int f = 0; f < nf; ++f) {
+    int& l = root_label[size_t(sets.find(f))];
+    if (l < 0) l = next++;
+    label[size_t(f)] = l;
+  }
+  return label;
+}
+
 int count_components(const RowMatX2i& edge_faces, int nf) {
   DisjointSets sets(nf);
   for (int e = 0; e < int(edge_faces.rows()); ++e)
@@ -373,6 +387,10 @@ SurfaceMesh midpoint_subdivision(const SurfaceMesh& mesh) {
     F.row(4 * f + 3) << ab, bc, ca;
   }
   return SurfaceMesh(std::move(V), std::move(F), "midpoint subdivision");
+}
+
+std::vector<int> face_components(const SurfaceMesh& mesh) {
+  return label_components(mesh.edge_faces(), mesh.num_faces());
 }
 
 }  // namespace cutwork

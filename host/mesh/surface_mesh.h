@@ -103,6 +103,10 @@ class SurfaceMesh {
   int m_num_components = 0;
 };
 
+/// #F: the connected component (through shared edges, as num_components counts them) of each
+/// face, numbered 0, 1, … in order of their first face.
+std::vector<int> face_components(const SurfaceMesh& mesh);
+
 /// The 1 → 4 midpoint subdivision of `mesh`: the vertices (same indices) followed by one vertex at
 /// the middle of each edge (index #V + e), and four faces per face (corner triangles, then the
 /// middle one), oriented like their parent. The surface is the same set of flat facets, at half

@@ -365,13 +365,50 @@ Definition pavilion_definition() {
     const RayArcLength rays(g);
     std::vector<bool> pinned(std::size_t(domain.uv.rows()), false);
     pinned[0] = true;  // the crown stays at the centre
+    // Both ends of every foot are rim vertices, and the foot's rim vertices are spread evenly
+    // between them. Otherwise the strip on z = 0 that the supports select is
+    // shorter than foot_length by up to one rim spacing on each side, by an amount that changes
+    // with the edge length (the default pavilion's compliance was 2.5 times the fine meshes').
+    std::vector<bool> on_foot(std::size_t(domain.uv.rows()), false);
+    {
+      std::vector<std::pair<double, Eigen::Index>> rim;  // (angle in [0, 2π), vertex)
+      for (Eigen::Index i = 1; i < domain.uv.rows(); ++i) {
+        if (!domain.on_boundary[std::size_t(i)]) continue;
+        double theta = std::atan2(domain.uv(i, 1), domain.uv(i, 0));
+        rim.emplace_back(theta < 0 ? theta + 2 * kPi : theta, i);
+      }
+      std::sort(rim.begin(), rim.end());
+      const long n = long(rim.size());
+      for (int leg = 0; leg < g.legs; ++leg) {
+        const double centre = (2 * leg + 1) * g.half_period;
+        auto offset = [&](long k) {  // signed angle of rim vertex k from the leg's centre
+          return std::remainder(rim[std::size_t(((k % n) + n) % n)].first - centre, 2 * kPi);
+        };
+        // As many rim spacings on the foot as keep the spacing nearest the rim's own (≥ 1), on the
+        // consecutive rim vertices centred on the leg.
+        const long gaps = std::max(1L, std::lround(2 * g.half_foot / (2 * kPi / double(n))));
+        long middle = 0;
+        for (long k = 1; k < n; ++k)
+          if (std::abs(offset(k)) < std::abs(offset(middle))) middle = k;
+        long lo = middle - gaps / 2;
+        if (gaps % 2 == 1 && offset(middle) > 0) --lo;  // an odd count: the middle vertex's side
+        const long hi = lo + gaps;
+        for (long k = lo; k <= hi; ++k) {
+          const double theta = centre - g.half_foot + 2 * g.half_foot * double(k - lo) / double(hi - lo);
+          const Eigen::Index i = rim[std::size_t(((k % n) + n) % n)].second;
+          domain.uv.row(i) = Vec2(std::cos(theta), std::sin(theta)).transpose();
+          on_foot[std::size_t(i)] = true;
+        }
+      }
+    }
     for (Eigen::Index i = 1; i < domain.uv.rows(); ++i) {
       const Vec2 uv = domain.uv.row(i).transpose();
       double theta = std::atan2(uv.y(), uv.x());
       if (theta < 0) theta += 2 * kPi;
       if (domain.on_boundary[std::size_t(i)]) {
-        // Rim vertices on a foot stay put, so every foot keeps its vertices on z = 0.
-        pinned[std::size_t(i)] = g.in_foot(theta);
+        // Rim vertices on a foot (its ends included) stay put, so every foot keeps its vertices
+        // on z = 0.
+        pinned[std::size_t(i)] = on_foot[std::size_t(i)];
         continue;
       }
       const double rho = uv.norm();

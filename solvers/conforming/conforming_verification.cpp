@@ -1,5 +1,6 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/conforming/conforming_verification.h"
+#include "solvers/conforming/richardson.h"
 
 #include <cmath>
 #include <limits>
@@ -100,36 +101,54 @@ void compare_energy_densities(const SurfaceMesh& sim, ConformingVerification& v)
 
 double ratio(double a, double b) { return b != 0 ? a / b : std::numeric_limits<double>::quiet_NaN(); }
 
+/// Removes the connected pieces of `mesh` without a fixed vertex in `lc`; true when it did (the
+/// caller resolves the load case again). Adds a note naming their count and area.
+bool drop_unsupported_pieces(SurfaceMesh& mesh, const LoadCase& lc, double L, std::vector<std::string>& notes) {
+  if (mesh.num_components() < 2) return false;
+  const std::vector<int> piece = face_components(mesh);
+  std::vector<bool> supported(size_t(mesh.num_components()), false);
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (lc.fixed[size_t(mesh.faces()(f, k))]) supported[size_t(piece[size_t(f)])] = true;
+  int loose = 0, kept_faces = 0;
+  double loose_area = 0;
+  for (bool s : supported) loose += !s;
+  if (loose == 0 || loose == int(supported.size())) return false;  // none loose, or nothing held at all
+  RowMatX3i kept(mesh.num_faces(), 3);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    if (supported[size_t(piece[size_t(f)])]) kept.row(kept_faces++) = mesh.faces().row(f);
+    else loose_area += mesh.face_areas()[f];
+  }
+  // Only the referenced vertices, renumbered.
+  std::vector<int> index(size_t(mesh.num_vertices()), -1);
+  int nv = 0;
+  for (int f = 0; f < kept_faces; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (index[size_t(kept(f, k))] < 0) index[size_t(kept(f, k))] = nv++;
+  RowMatX3d V(nv, 3);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (index[size_t(v)] >= 0) V.row(index[size_t(v)]) = mesh.vertices().row(v);
+  for (int f = 0; f < kept_faces; ++f)
+    for (int k = 0; k < 3; ++k) kept(f, k) = index[size_t(kept(f, k))];
+  mesh = SurfaceMesh(std::move(V), kept.topRows(kept_faces).eval(),
+                     fmt::format("conforming mesh (edge length {:.4g} m)", L));
+  notes.push_back(fmt::format("the stencils cut {} piece(s) loose from the supported shell ({:.3g} m^2 in all, at the "
+                              "conforming edge length {:.3g} m): they would fall out of the printed part and are "
+                              "left out of the conforming solve",
+                              loose, loose_area, L));
+  return true;
+}
+
 }  // namespace
 
 void extrapolate_compliance(ConformingVerification& v) {
-  const size_t n = v.levels.size();
-  if (n == 0) return;
-  const double finest = v.levels[n - 1].compliance;
-  v.extrapolated_compliance = finest;
-  v.observed_order = NAN;
-  v.compliance_error_bar = NAN;
-  if (n == 1) return;
-  const double d2 = finest - v.levels[n - 2].compliance;
-  if (n >= 3) {
-    const double d1 = v.levels[n - 2].compliance - v.levels[n - 3].compliance;
-    if (d1 * d2 > 0 && std::abs(d2) < std::abs(d1)) {
-      v.observed_order = std::log2(d1 / d2);
-      v.extrapolated_compliance = finest + d2 / (std::exp2(v.observed_order) - 1);
-      v.compliance_error_bar = std::abs(v.extrapolated_compliance - finest);
-      return;
-    }
-    // Differences that change sign or grow: no asymptotic range seen, no extrapolation.
-    v.compliance_error_bar = std::max(std::abs(d1), std::abs(d2));
-    return;
-  }
-  v.extrapolated_compliance = finest + d2;  // first order assumed: the slowest a conforming mesh converges
-  v.compliance_error_bar = std::abs(d2);
+  std::vector<double> compliances;
+  for (const RunQuantities& q : v.levels) compliances.push_back(q.compliance);
+  const Richardson r = richardson_extrapolate(compliances);
+  v.extrapolated_compliance = r.extrapolated;
+  v.observed_order = r.order;
+  v.compliance_error_bar = r.error_bar;
 }
-
-namespace {
-
-}  // namespace
 
 Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
                                     const SurfaceMesh& sim, std::span<const StencilParams> stencils,
@@ -191,9 +210,15 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       // Boundary selectors mean the surface's boundary, not the rims of the holes (tolerance: the
       // cut's snapping distance is 1e-9 of the longest edge; remeshing keeps boundary vertices on
       // the cut's boundary edges to round-off).
-      const std::vector<bool> outer =
-          boundary_vertices_on_boundary_of(mesh, meshes.base, 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm());
-      const LoadCase lc = resolve_load_case(scene, mesh, &outer, &load_case);
+      const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
+      std::vector<bool> outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
+      LoadCase lc = resolve_load_case(scene, mesh, &outer, &load_case);
+      // Pieces the stencils cut loose (no supported vertex: an island between holes, or one that
+      // hangs on the rest by a single vertex) fall out of the printed shell: left out, and said.
+      if (drop_unsupported_pieces(mesh, lc, L, v.notes)) {
+        outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
+        lc = resolve_load_case(scene, mesh, &outer, &load_case);
+      }
       const ShellModel model(mesh, scene.material, lc, mechanics);
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }

@@ -53,7 +53,7 @@ StructurePhaseResult structure_phase(const Scene& scene, PatternContext& ctx, St
   if (options.progress) so.progress = [&](const PatternProgress& p) { return options.progress("structure", p); };
   if (options.checkpoint)
     so.checkpoints.save = [&](const StructurePhaseResult& partial, const PhaseSnapshot& phase) {
-      options.checkpoint({DesignStage::Structure, r.pattern, &partial, &phase, &shell.stencils(),
+      options.checkpoint({DesignStage::Structure, r.pattern, &partial, &phase, &shell.equilibrium_stencils(),
                           &shell.solver().positions()});
     };
   if (resume) {
@@ -63,7 +63,7 @@ StructurePhaseResult structure_phase(const Scene& scene, PatternContext& ctx, St
   StructurePhaseResult structure =
       run_structure_phase(ctx, shell, scene.structure, r.pattern.layout, r.uncut.summary.W_max, so);
   if (options.checkpoint)
-    options.checkpoint({DesignStage::StructureEnd, r.pattern, &structure, nullptr, &shell.stencils(),
+    options.checkpoint({DesignStage::StructureEnd, r.pattern, &structure, nullptr, &shell.equilibrium_stencils(),
                         &shell.solver().positions()});
   return structure;
 }

@@ -38,6 +38,7 @@ const EquilibriumStats& StencilledShell::equilibrate() {
   Stopwatch sw;
   try {
     const EquilibriumStats& s = m_solver->solve(m_alpha);
+    m_equilibrium_stencils = m_stencils;
     m_times.equilibrium += sw.seconds();
     ++m_times.equilibria;
     m_times.newton_iterations += s.newton_iterations;
@@ -51,6 +52,7 @@ const EquilibriumStats& StencilledShell::equilibrate() {
 void StencilledShell::restore_equilibrium(std::span<const StencilParams> stencils, const RowMatX3d& positions) {
   set_stencils(stencils);
   m_solver->restore_equilibrium(positions, m_alpha);
+  m_equilibrium_stencils = m_stencils;
 }
 
 EquilibriumSummary StencilledShell::summary() const {

@@ -49,6 +49,13 @@ class StencilledShell {
   const Eigen::VectorXd& alpha() const { return m_alpha; }
   const std::vector<StencilParams>& stencils() const { return m_stencils; }
 
+  /// The stencils of the last equilibrium (the last successful equilibrate() or
+  /// restore_equilibrium): what a checkpoint must save beside the solver's positions. They differ
+  /// from stencils() when stencils were set after it without a solve (the compliance objective's
+  /// area restoration after hole filling), and restoring the equilibrium at the later stencils
+  /// would factorise another Hessian than the one the uninterrupted run holds.
+  const std::vector<StencilParams>& equilibrium_stencils() const { return m_equilibrium_stencils; }
+
   /// Sets `stencils` and makes `positions` (#V×3, m) their last equilibrium, as if equilibrate()
   /// had just converged there (checkpoints: the next solve is warm-started exactly as it was).
   void restore_equilibrium(std::span<const StencilParams> stencils, const RowMatX3d& positions);
@@ -91,6 +98,7 @@ class StencilledShell {
   std::unique_ptr<FillRatioEvaluator> m_fill;
   Eigen::VectorXd m_alpha;
   std::vector<StencilParams> m_stencils;
+  std::vector<StencilParams> m_equilibrium_stencils;
   int m_num_stencils = 0;
   bool m_derivatives = false;
   StageTimes m_times;

@@ -149,15 +149,17 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   if (info.discretisation_estimate) {
     sw.restart();
     const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
-    const RefinedSimulationMesh refined = refine_simulation_mesh(scene, meshes);
+    const std::vector<RefinedSimulationMesh> refined = refine_simulation_mesh(scene, meshes);
     const double h = simulation_edge_length(scene, meshes);
-    const Eigen::VectorXd solid = Eigen::VectorXd::Ones(refined.mesh.num_faces());
-    const DiscretisationEstimate uncut =
-        estimate_discretisation(scene, refined, solid, mechanics, result.uncut.summary, h, meshes.sim.num_faces());
-    const Eigen::VectorXd alpha =
-        fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), refined.mesh, final_params);
+    const DiscretisationEstimate uncut = estimate_discretisation(
+        scene, refined, [](const SurfaceMesh& m) { return Eigen::VectorXd(Eigen::VectorXd::Ones(m.num_faces())); },
+        mechanics, result.uncut.summary, h, meshes.sim.num_faces());
     const DiscretisationEstimate final_design = estimate_discretisation(
-        scene, refined, alpha, mechanics, result.final_design.summary, h, meshes.sim.num_faces());
+        scene, refined,
+        [&](const SurfaceMesh& m) {
+          return fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), m, final_params);
+        },
+        mechanics, result.final_design.summary, h, meshes.sim.num_faces());
     discretisation = {{"uncut", discretisation_json(uncut)},
                       {"final", discretisation_json(final_design)},
                       {"converged", uncut.converged && final_design.converged},

@@ -5,12 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "host/core/error.h"
 #include "host/cut/cut_surface.h"
 #include "host/mesh/isotropic_remesh.h"
 #include "host/mesh/mesh_mapping.h"
+#include "host/pattern/stencils_json.h"
 #include "host/scene/scene.h"
+#include "tests/support/test_support.h"
 #include "solvers/conforming/conforming_verification.h"
 
 namespace cutwork::solvers {
@@ -174,6 +177,60 @@ TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBrackets
   EXPECT_EQ(budget.levels.size(), 2u);
   EXPECT_EQ(budget.stop, "budget");
   EXPECT_FALSE(budget.converged);
+}
+
+TEST(ConformingVerification, PiecesCutLooseAreLeftOutAndSaid) {
+  // Eight overlapping circles on a ring of radius 0.2 cut a disc loose from the sheet: it has no
+  // support (the sheet is pinned on its outer boundary), so it falls out of the printed part.
+  // Solved with it, the conforming stiffness is singular.
+  const Scene scene = scene_at("sheet", 0.05, 0.1);
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  const PatternContext ctx(scene, meshes);
+  std::vector<StencilParams> stencils;
+  for (int k = 0; k < 8; ++k) {
+    const double a = 2 * std::numbers::pi * k / 8;
+    stencils.push_back(circle_at(0.2 * std::cos(a), 0.2 * std::sin(a), 0.1));
+  }
+  ConformingOptions o;
+  o.edge_length = 0.04;
+  const ConformingVerification v = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  ASSERT_EQ(v.levels.size(), 1u);
+  EXPECT_EQ(v.conforming_mesh.num_components(), 1);
+  bool said = false;
+  for (const std::string& n : v.notes) said = said || n.find("cut 1 piece(s) loose") != std::string::npos;
+  EXPECT_TRUE(said);
+  // Only the outer part is left: nothing within 0.1 of the centre.
+  for (int i = 0; i < v.conforming_mesh.num_vertices(); ++i)
+    EXPECT_GT(v.conforming_mesh.vertices().row(i).norm(), 0.1) << i;
+  EXPECT_TRUE(std::isfinite(v.compliance_ratio));
+}
+
+TEST(ConformingVerification, TheChairDesignRemeshesWithoutFlatFaces) {
+  // The default chair design (tests/data/designs/chair_stencils.json, `cutwork design chair`), cut
+  // and remeshed at verify's default L (half the base mesh's mean edge): CGAL's valence flips
+  // left a flat cap on two collinear outline edges ("face 2408 has zero area"); the cap-and-needle
+  // repair removes it. Without the repair the same remesh fails.
+  const Scene scene = load_scene("chair");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const PatternContext ctx(scene, meshes);
+  const StencilsFile sf = read_stencils_json(test::data_dir() / "designs" / "chair_stencils.json", ctx.shapes());
+  const CutSurface cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), sf.stencils);
+  RemeshOptions ro;
+  ro.target_edge_length = 0.5 * meshes.base.mean_edge_length();
+  const RemeshedMesh repaired = remesh_isotropic(cut.vertices, cut.faces, ro);
+  EXPECT_GT(repaired.repaired_faces, 0);
+  const SurfaceMesh mesh(repaired.vertices, repaired.faces, "repaired");
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    double longest = 0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (mesh.vertices().row(mesh.faces()(f, k)) - mesh.vertices().row(mesh.faces()(f, (k + 1) % 3))).norm());
+    // (measured: 0.019 at the flattest face, about 1.1°; a zero-area face is 0)
+    ASSERT_GT(2 * mesh.face_areas()[f] / (longest * longest), 0.01) << "face " << f;
+  }
+  ro.repair_flatness = 0;  // no repair
+  const RemeshedMesh raw = remesh_isotropic(cut.vertices, cut.faces, ro);
+  EXPECT_THROW(SurfaceMesh(raw.vertices, raw.faces, "raw"), InputError);
 }
 
 }  // namespace
