@@ -504,17 +504,19 @@ Scene load_scene(const std::string& what, std::string* notice) {
   fs::path path(what);
   std::error_code ec;
   const bool exists = fs::exists(path, ec);
-  if (!exists) {
+  // A folder never holds a scene, so a built-in name wins over a folder of that name (such as
+  // the output folder of `cutwork design plate --out plate`, made before the scene is read).
+  if (!exists || fs::is_directory(path, ec)) {
     for (const auto& b : builtin_scenes())
       if (b.name == what) {
         Scene s = parse_scene(builtin_scene_json(what), "builtin:" + what);
         return s;
       }
+    if (exists) throw InputError(what + ": is a directory, expected a scene or mesh file");
     std::string names;
     for (const auto& b : builtin_scenes()) names += (names.empty() ? "" : ", ") + b.name;
     throw InputError(what + ": no such file, and not a built-in scene (built-in: " + names + ")");
   }
-  if (fs::is_directory(path, ec)) throw InputError(what + ": is a directory, expected a scene or mesh file");
   if (is_mesh_file(path)) {
     // A plain mesh: self-weight, lowest vertices pinned, the default pattern. A mesh that is
     // flat in z (every vertex would be "lowest") is pinned along its boundary instead, like a

@@ -89,5 +89,23 @@ TEST(CheckCommand, ALoadTheUncutShellCannotCarryIsExitTwoWithTheCarriedFraction)
   EXPECT_NE(only.out.find("uncut equilibrium: not solved (--no-equilibrium)"), std::string::npos) << only.out;
 }
 
+TEST(CheckCommand, ABuiltinNameIsNotShadowedByAFolderOfThatName) {
+  // `cutwork design plate --out plate` makes the folder `plate` before it reads the scene name.
+  const fs::path dir = test::temp_dir("shadowed_builtin");
+  fs::create_directories(dir / "plate");
+  const auto r = test::run_shell("cd " + dir.string() + " && " + test::cutwork_binary().string() +
+                                 " design plate --phases none --out plate");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "plate" / "report.json"));
+  const auto c = test::run_shell("cd " + dir.string() + " && " + test::cutwork_binary().string() +
+                                 " check plate --no-equilibrium");
+  EXPECT_EQ(c.exit_code, 0) << c.err;
+  // A folder that is no built-in name is still an error naming it.
+  fs::create_directories(dir / "somewhere");
+  const auto bad = run_cutwork("check " + (dir / "somewhere").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("is a directory"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace cutwork
