@@ -59,7 +59,7 @@ const std::vector<Entry>& entries() {
 })json"},
       {{"table", "Fig. 8: monocoque table fixed at its feet, loaded on the top"},
        nullptr, R"json({
-  "mesh": {"generator": "table", "edge_length": 0.035, "sim_edge_length": 0.056},
+  "mesh": {"generator": "table", "edge_length": 0.035, "sim_edge_length": 0.04},
   )json" CUTWORK_PLYWOOD R"json(,
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.001}}}],
   "loads": [{"type": "area", "force": [0, 0, -1500], "select": {"entity": "faces", "z": {"above": 0.6}}}],
