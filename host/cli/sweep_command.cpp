@@ -85,6 +85,9 @@ void add_sweep_command(CLI::App& app) {
       ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
       ->capture_default_str();
   cmd->add_flag("--list", opts->list, "print the variants (id and axis values) and stop; nothing is written");
+  cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,
+                "skip each design's solves at half and a quarter of the simulation edge length that say how far "
+                "from converged its numbers are (report.json `discretisation`): faster sweeps");
   cmd->add_flag("--quiet,-q", opts->quiet, "print nothing but errors");
   cmd->callback([opts] { run_sweep_command(*opts); });
 }

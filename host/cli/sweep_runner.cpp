@@ -148,6 +148,7 @@ SweepPlan plan_sweep(const SweepOptions& options) {
   }
   plan.out = options.out;
   plan.iterations = options.iterations > 0 ? options.iterations : plan.spec.iterations;
+  plan.discretisation_estimate = !options.no_discretisation_estimate;
   return plan;
 }
 
@@ -172,6 +173,7 @@ VariantResult run_variant(const SweepPlan& plan, size_t i, const std::string& de
     ensure_directory(dir);
     write_json_atomic(dir / "scene.json", v.scene);
     solvers::DesignRunInfo info;
+    info.discretisation_estimate = plan.discretisation_estimate;
     solvers::DesignOptions o;
     o.structure = plan.spec.phases == "pattern,structure";
     if (plan.iterations > 0) o.pattern_iterations = o.structure_iterations = plan.iterations;

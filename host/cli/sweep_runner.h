@@ -42,6 +42,7 @@ struct SweepOptions {
   std::string device = "cpu";
   bool quiet = false;
   bool list = false;                 ///< print the variants and stop
+  bool no_discretisation_estimate = false;  ///< skip each design's discretisation estimate
 };
 
 /// Parses a memory size: a number with an optional K, M, G or T (powers of 1024) and an
@@ -59,6 +60,7 @@ struct SweepPlan {
   std::vector<Scene> scenes;         ///< parsed, one per variant
   std::filesystem::path out;
   int iterations = 0;                ///< resolved: --iterations, else the sweep file's
+  bool discretisation_estimate = true;  ///< each design's report.json `discretisation`
 
   std::filesystem::path variant_dir(size_t i) const { return out / "variants" / variants[i].id; }
   std::vector<std::string> axis_pointers() const;

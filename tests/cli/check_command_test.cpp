@@ -107,5 +107,31 @@ TEST(CheckCommand, ABuiltinNameIsNotShadowedByAFolderOfThatName) {
   EXPECT_NE(bad.err.find("is a directory"), std::string::npos) << bad.err;
 }
 
+TEST(CheckCommand, DesignAndSimulateReportTheirDiscretisationError) {
+  const fs::path dir = test::temp_dir("discretisation_report");
+  const auto d = run_cutwork("design sheet --iterations 2 --no-render --quiet --out " + (dir / "d").string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const auto report = test::read_json(dir / "d" / "report.json");
+  ASSERT_TRUE(report.contains("discretisation")) << report.dump();
+  for (const char* which : {"uncut", "final"}) {
+    const auto& e = report["discretisation"][which];
+    EXPECT_EQ(e["levels"].size(), 3u) << e.dump();
+    EXPECT_NEAR(e["levels"][1]["edge_length"].get<double>(), 0.025, 1e-12);
+    EXPECT_TRUE(e["estimated_error"].is_number()) << e.dump();
+    EXPECT_TRUE(e["converged"].is_boolean());
+  }
+  const auto s = run_cutwork("simulate plate --no-render --quiet --out " + (dir / "s").string());
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const auto sim = test::read_json(dir / "s" / "report.json");
+  ASSERT_TRUE(sim.contains("discretisation"));
+  EXPECT_EQ(sim["discretisation"]["method"], "regenerated");
+  // The uncut plate converges (6.350, 6.324, 6.309 mJ at 0.01, 0.005, 0.0025 m).
+  EXPECT_TRUE(sim["discretisation"]["converged"].get<bool>()) << sim["discretisation"].dump();
+  const auto off = run_cutwork("simulate plate --no-render --quiet --no-discretisation-estimate --out " +
+                               (dir / "off").string());
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  EXPECT_FALSE(test::read_json(dir / "off" / "report.json").contains("discretisation"));
+}
+
 }  // namespace
 }  // namespace cutwork
