@@ -697,8 +697,9 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
         es.push_back(e);
     return es;
   };
-  // Spreads `per_measure` (N/m² or N/m) over the part of the surface (or of the line) inside the
-  // selector's region with consistent nodal weights; adds to `out`, returns the measure.
+  // Spread a traction (per face, N/m²) over the surface inside the selector's region, or a force
+  // per length (N/m) along its (boundary) edges, with consistent nodal weights; add to `out` and
+  // return the area or length covered.
   auto spread_over_area = [&](const Selector& sel, auto&& traction_of_face, RowMatX3d& out) {
     double measure = 0;
     for (int f = 0; f < mesh.num_faces(); ++f) {
