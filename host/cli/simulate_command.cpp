@@ -24,6 +24,7 @@
 #include "host/stencil/frame.h"
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/discretisation_estimate.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/optimize/stencilled_shell.h"
 #include "solvers/report/simulate_report.h"
 
@@ -59,6 +60,8 @@ class StencilSurface {
   const TangentField& field() const {
     return m_context ? static_cast<const TangentField&>(m_context->surface().field()) : m_axis;
   }
+  /// The scene's pattern context (null for the uncut shell).
+  const PatternContext* context() const { return m_context.get(); }
 
  private:
   std::unique_ptr<PatternContext> m_context;
@@ -121,6 +124,7 @@ void run_simulate(const SimulateOptions& opts) {
   settings.log = [&notes](const std::string& line) { notes.push_back(line); };
   solvers::StencilledShell shell(meshes.sim, surface.bvh(), scene.material, scene.mechanics, loaded.load_case,
                                  surface.shapes(), surface.field(), fill_options, settings);
+  if (surface.context()) shell.set_cell_filter(solvers::scene_cell_filter(scene, *surface.context(), meshes.sim));
   const solvers::ShellModel& model = shell.model();
   const double analysis_seconds = shell.solver().analysis_seconds();
   timings.add("model", sw.seconds() - analysis_seconds);
@@ -164,8 +168,8 @@ void run_simulate(const SimulateOptions& opts) {
     estimate = solvers::estimate_discretisation(
         scene, solvers::refine_simulation_mesh(scene, meshes),
         [&](const SurfaceMesh& m) {
-          return solvers::fill_ratios_on_mesh(surface.bvh(), surface.shapes(), surface.field(), m, stencils,
-                                              fill_options);
+          if (!surface.context()) return Eigen::VectorXd(Eigen::VectorXd::Ones(m.num_faces()));
+          return solvers::design_fill_ratios(scene, *surface.context(), m, stencils, fill_options);
         },
         model.mechanics(), summary, solvers::simulation_edge_length(scene, meshes), model.num_faces());
     timings.add("discretisation", sw.seconds());

@@ -21,6 +21,7 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "solvers/conforming/conforming_verification.h"
+#include "solvers/objective/peak_energy_density.h"
 #include "solvers/report/run_report.h"
 
 namespace cutwork::cli {
@@ -54,6 +55,8 @@ json run_json(const solvers::RunQuantities& q) {
           {"max_displacement_vertex", q.max_displacement_vertex},
           {"W_max", q.W_max},
           {"W_max_face", q.W_max_face},
+          {"W_peak_max", number_or_null(q.W_peak_max)},
+          {"W_peak_max_face", q.W_peak_max_face},
           {"material_area", q.material_area},
           {"load_total", {q.load_total.x(), q.load_total.y(), q.load_total.z()}},
           {"newton_iterations", q.newton_iterations},
@@ -81,6 +84,10 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
             {"max_displacement_ratio", number_or_null(v.max_displacement_ratio)},
             {"W_max_ratio", number_or_null(v.W_max_ratio)},
             {"W_max_conforming_on_coarse", v.W_max_on_coarse},
+            {"W_peak_coarse", number_or_null(v.coarse.W_peak_max)},
+            {"W_peak_conforming", v.levels.back().W_max},
+            {"W_peak_ratio", number_or_null(v.W_peak_ratio)},
+            {"W_peak_rule", solvers::kPeakEnergyDensityRule},
             {"W_relative_l2", v.W_relative_l2},
             {"compared_faces", v.compared_faces},
             {"material_fill_ratio", solvers::kMaterialFillRatio}};
@@ -217,6 +224,10 @@ void run_verify(const VerifyOptions& opts) {
                          v.levels.back().edge_length, convergence, v.compliance_ratio, v.compliance_ratio_extrapolated,
                          v.strain_energy_ratio, v.max_displacement_ratio, v.W_max_ratio, v.W_relative_l2,
                          (out / "report.json").string()));
+    if (std::isfinite(v.W_peak_ratio))
+      say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}), conforming "
+                           "W_max {:.4g} J/m², ratio {:.4f}",
+                           v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().W_max, v.W_peak_ratio));
   }
 }
 

@@ -35,12 +35,24 @@ struct FillStiffnessCurve {
   std::vector<double> alpha;     ///< sample fill ratios, strictly increasing, in (0, 1], last = 1
   std::vector<double> membrane;  ///< r_m at each sample (membrane stiffness / (α · solid)); last = 1
   std::vector<double> bending;   ///< r_b at each sample (bending stiffness / (α · solid)); last = 1
+  /// Stress concentration K = peak / mean energy density over the material of the perforated sheet
+  /// (membrane, bending) at each sample, ≥ 1; the last (α = 1) holds the dilute limit. Empty when
+  /// not calibrated (solvers/objective/peak_energy_density.h says how they are used).
+  std::vector<double> membrane_concentration, bending_concentration;
   bool empty() const { return alpha.empty(); }
+};
+
+/// Which fill ratio a face's stiffness is evaluated at (scene key "mechanics.filter").
+enum class FillFilter {
+  None,  ///< the face's own α (the paper's)
+  Cell,  ///< α averaged over the stencil's cell where triangles do not resolve the stencils
+         ///< (solvers/shell/cell_filter.h)
 };
 
 struct MechanicsSettings {
   BendingModel bending = BendingModel::ShapeOperator;
   FillStiffness stiffness = FillStiffness::Linear;
+  FillFilter filter = FillFilter::None;
   /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
   FillStiffnessCurve stiffness_curve;
 };

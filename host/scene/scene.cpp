@@ -184,7 +184,7 @@ Material parse_material_section(JsonObjectReader& root) {
   return material;
 }
 
-/// /mechanics: the bending model.
+/// /mechanics: the bending model, the fill stiffness rule and the fill-ratio filter.
 MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   MechanicsSettings mechanics;
   JsonObjectReader m = root.object("mechanics");
@@ -192,6 +192,8 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
   const std::string stiffness = m.string("stiffness", "linear", {"linear", "homogenised"});
   mechanics.stiffness = stiffness == "homogenised" ? FillStiffness::Homogenised : FillStiffness::Linear;
+  const std::string filter = m.string("filter", "none", {"none", "cell"});
+  mechanics.filter = filter == "cell" ? FillFilter::Cell : FillFilter::None;
   m.finish();
   return mechanics;
 }
@@ -436,7 +438,8 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                    {"thickness", s.material.thickness},
                    {"density", s.material.density}};
   j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
-                    {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"}};
+                    {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
+                    {"filter", s.mechanics.filter == FillFilter::Cell ? "cell" : "none"}};
   j["supports"] = json::array();
   for (const auto& sp : s.supports)
     j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},

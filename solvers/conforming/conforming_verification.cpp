@@ -161,9 +161,12 @@ Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary
   return eval.alpha();
 }
 
-Eigen::VectorXd design_fill_ratios(const PatternContext& ctx, const SceneMeshes& meshes,
+Eigen::VectorXd design_fill_ratios(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim,
                                    std::span<const StencilParams> stencils, FillRatioOptions fill) {
-  return fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim, stencils, fill);
+  const Eigen::VectorXd alpha =
+      fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), sim, stencils, fill);
+  if (stencils.empty() || scene.mechanics.filter == FillFilter::None) return alpha;
+  return scene_cell_filter(scene, ctx, sim).apply(alpha);
 }
 
 ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
@@ -181,7 +184,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   settings.log = [&v](const std::string& line) { v.notes.push_back(line); };
 
   // 1. The coarse fill-ratio run.
-  v.alpha = design_fill_ratios(ctx, meshes, stencils, fill);
+  v.alpha = design_fill_ratios(scene, ctx, meshes.sim, stencils, fill);
   // The conforming runs are at α = 1, where every fill rule is the solid.
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
   {
@@ -251,6 +254,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.strain_energy_ratio = ratio(v.coarse.strain_energy, f.strain_energy);
   v.max_displacement_ratio = ratio(v.coarse.max_displacement, f.max_displacement);
   v.W_max_ratio = ratio(v.coarse.W_max, f.W_max);
+  if (std::isfinite(v.coarse.W_peak_max)) v.W_peak_ratio = ratio(v.coarse.W_peak_max, f.W_max);
   compare_energy_densities(meshes.sim, v);
   // Dead loads carry the coarse totals by construction (resolve_load_case's match_totals); only
   // self-weight differs, by the difference between Σ α A and the conforming material area.

@@ -94,6 +94,10 @@ struct ConformingVerification {
   double compliance_ratio = 0, strain_energy_ratio = 0, max_displacement_ratio = 0;
   double W_max_ratio = 0;              ///< coarse W_max / conforming W_max (per conforming face)
   double W_max_on_coarse = 0;          ///< max_t W̄_t over compared faces
+  /// coarse W_peak_max (the rim estimate from the cell problems' concentration factors,
+  /// peak_energy_density.h) / conforming W_max (the conforming mesh resolves the rims, so its W_max
+  /// is the peak it sees); NaN when the mechanics carries no concentration samples.
+  double W_peak_ratio = NAN;
   double W_relative_l2 = 0;            ///< √(Σ A_t (W_t − W̄_t)² / Σ A_t W̄_t²) over compared faces
   int worst_face = -1;                 ///< compared face with the largest |W_t − W̄_t|
   double worst_difference = 0;         ///< W_t − W̄_t there (J/m²)
@@ -109,9 +113,11 @@ Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary
                                     const SurfaceMesh& sim, std::span<const StencilParams> stencils,
                                     FillRatioOptions fill = {});
 
-/// Fill ratios (#F_sim) of `stencils` on the scene's simulation mesh, as the optimiser computes them
-/// (CPU kernels unless `fill` says otherwise; derivatives off).
-Eigen::VectorXd design_fill_ratios(const PatternContext& ctx, const SceneMeshes& meshes,
+/// Fill ratios (#F of `sim`) of `stencils` on a simulation mesh of the scene (its own or a refined
+/// one), as the optimiser computes them: the kernels' α, then the scene's cell filter
+/// (scene_cell_filter; the identity unless mechanics.filter says otherwise). CPU kernels unless
+/// `fill` says otherwise; derivatives off.
+Eigen::VectorXd design_fill_ratios(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim,
                                    std::span<const StencilParams> stencils, FillRatioOptions fill = {});
 
 /// Runs both simulations and compares them (see the file comment). Throws InputError for bad

@@ -29,6 +29,9 @@
 ///
 /// Units: lengths in lattice spacings internally (a = 1); stiffness matrices in N/m (membrane,
 /// C = E h/(1−ν²) [1 ν 0; ν 1 0; 0 0 (1−ν)/2]) and N·m (bending, D times the same matrix).
+#include <string>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "host/scene/load_case.h"
@@ -41,6 +44,28 @@ struct CellOptions {
   int remesh_iterations = 5;
 };
 
+/// Stress concentration in one macroscopic state of the cell (issue 21 item 5). A state is a
+/// macroscopic stress σ̄ (membrane; Voigt σ_xx, σ_yy, τ_xy) or moment M̄ (bending; M_xx, M_yy, M_xy),
+/// applied as the macroscopic strain ε̄ = C*⁻¹ σ̄ (κ̄ = D*⁻¹ M̄) of the homogenised cell, so that
+/// "uniaxial" means what Kirsch's far field means. States: uniaxial along θ = 0°, 15°, …, 165°
+/// (σ̄ = n⊗n, n = (cos θ, sin θ)); equibiaxial (σ̄ = 1); pure shear with principal axes at θ = 0°,
+/// 22.5°, 45°, 67.5° (σ̄ = n⊗n − m⊗m, m ⊥ n). K = W_peak / W_mean, where
+///   W_mean = ½ ε̄ᵀ C* ε̄ / window_fill_ratio: the cell's energy per area of its material;
+///   W_peak (membrane) = the larger of the faces' energy densities (CST: constant per face; faces
+///     with a vertex on the rim left out, their thin shapes make them noisy) and the rim's, recovered
+///     along the hole's boundary edges (free_edge_strain.h: σ_tt = E ε_tt), each edge's strain
+///     averaged with its neighbours' within half a target edge length, 0.5/resolution;
+///   W_peak (bending) = the largest face energy density of the shape-operator elements off the rim
+///     (no rim recovery: a lower bound, one face away from the rim, that grows under refinement).
+/// Dilute circular holes in plane elasticity (Kirsch): uniaxial K → 9, equibiaxial 2/(1 − ν), pure
+/// shear 8/(1 + ν). K of a polygon with sharp re-entrant corners grows without bound under
+/// refinement (the corner is singular); the cell's mesh size then acts as the corner's radius.
+struct ConcentrationState {
+  std::string state;   ///< "uniaxial", "equibiaxial" or "shear"
+  double angle = 0;    ///< θ (radians from x; 0 for equibiaxial)
+  double factor = 1;   ///< K
+};
+
 struct CellStiffness {
   double fill_ratio = 0;             ///< α asked for
   double window_fill_ratio = 0;      ///< material area of the meshed cell / cell area (≈ α)
@@ -50,6 +75,10 @@ struct CellStiffness {
   double membrane_factor = 0;        ///< g_m = tr(C* C⁻¹)/3
   double bending_factor = 0;         ///< g_b = tr(D* D⁻¹)/3
   int vertices = 0, faces = 0;       ///< of the patch mesh
+  /// Stress concentration (see concentration_states): K = peak W / mean W over the cell's material,
+  /// max over the membrane states and over the bending states (1 for a solid cell).
+  double membrane_concentration = 1, bending_concentration = 1;
+  std::vector<ConcentrationState> membrane_states, bending_states;
 };
 
 /// The largest hole fraction 1 − α at which `shape` still fits the period cell: its bounding circle

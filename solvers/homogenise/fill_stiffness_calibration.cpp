@@ -1,5 +1,6 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -14,6 +15,7 @@ namespace {
 /// Ratios (membrane, bending) of one shape at every grid point.
 struct ShapeCurve {
   std::vector<double> membrane, bending;
+  std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
 };
 
 using CacheKey = std::tuple<std::vector<double>, double, double>;
@@ -22,18 +24,23 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
   const std::vector<double>& grid = calibration_grid();
   const double lowest = 1 - max_hole_fraction(shape);
   ShapeCurve c;
-  double low_m = 0, low_b = 0;
+  double low_m = 0, low_b = 0, low_km = 1, low_kb = 1;
   bool have_low = false;
   for (double alpha : grid) {
     if (alpha >= 1) {
       c.membrane.push_back(1);
       c.bending.push_back(1);
+      // The dilute limit: held at the last cut sample (a vanishing hole still concentrates stress).
+      c.membrane_concentration.push_back(c.membrane_concentration.empty() ? 1 : c.membrane_concentration.back());
+      c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
       continue;
     }
     const double a = std::max(alpha, lowest);
     if (a > alpha && have_low) {
       c.membrane.push_back(low_m);
       c.bending.push_back(low_b);
+      c.membrane_concentration.push_back(low_km);
+      c.bending_concentration.push_back(low_kb);
       continue;
     }
     const CellStiffness cell = homogenise_cell(shape, material, a, options);
@@ -41,10 +48,14 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
     if (a > alpha) {
       low_m = rm;
       low_b = rb;
+      low_km = cell.membrane_concentration;
+      low_kb = cell.bending_concentration;
       have_low = true;
     }
     c.membrane.push_back(rm);
     c.bending.push_back(rb);
+    c.membrane_concentration.push_back(cell.membrane_concentration);
+    c.bending_concentration.push_back(cell.bending_concentration);
   }
   return c;
 }
@@ -66,6 +77,8 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   out.alpha = grid;
   out.membrane.assign(grid.size(), 0.0);
   out.bending.assign(grid.size(), 0.0);
+  out.membrane_concentration.assign(grid.size(), 1.0);
+  out.bending_concentration.assign(grid.size(), 1.0);
   for (const StencilShape& shape : shapes.shapes()) {
     std::vector<double> polygon;
     for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
@@ -84,6 +97,9 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     for (size_t k = 0; k < grid.size(); ++k) {
       out.membrane[k] += c.membrane[k] / shapes.size();
       out.bending[k] += c.bending[k] / shapes.size();
+      // Peaks: the worst shape (a face's α does not say which shape cut it).
+      out.membrane_concentration[k] = std::max(out.membrane_concentration[k], c.membrane_concentration[k]);
+      out.bending_concentration[k] = std::max(out.bending_concentration[k], c.bending_concentration[k]);
     }
   }
   out.membrane.back() = out.bending.back() = 1.0;  // exactly, whatever the rounding of the mean
@@ -101,6 +117,22 @@ MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, con
 MechanicsSettings scene_mechanics(const Scene& scene) {
   if (scene.mechanics.stiffness == FillStiffness::Linear) return scene.mechanics;
   return resolve_fill_stiffness(scene.mechanics, scene_stencil_library(scene), scene.material);
+}
+
+CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim) {
+  if (scene.mechanics.filter == FillFilter::None) return {};
+  const int nf = sim.num_faces();
+  const RowMatX3d& V = sim.vertices();
+  const RowMatX3i& F = sim.faces();
+  const PatternSurface& surface = ctx.surface();
+  Eigen::VectorXd spacing(nf), diameter(nf);
+  for (int t = 0; t < nf; ++t) {
+    const Vec3 c = (V.row(F(t, 0)) + V.row(F(t, 1)) + V.row(F(t, 2))).transpose() / 3.0;
+    const double sigma = surface.sizing_at(surface.bvh().closest_point(c).where);
+    diameter[t] = 2 * ctx.unit() * sigma;
+    spacing[t] = (1 + scene.pattern.s) * diameter[t];
+  }
+  return CellFilter(sim, spacing, diameter);
 }
 
 }  // namespace cutwork::solvers

@@ -9,15 +9,26 @@
 /// averaged with equal weights (a face's fill ratio does not say which shape cut it). Ratios
 /// depend on the shapes and on ν only (not on E, h, or the design's scale).
 ///
+/// Concentration factors K (cell_homogenisation.h) ride on the same cell solves: per sample, the
+/// largest over the shapes (a face's fill ratio does not say which shape cut it); below a shape's
+/// lowest fill ratio held like the ratios; the α = 1 sample holds the last cut sample's K (the dilute
+/// side held constant; an uncut face's K = 1 is the consumer's rule, peak_energy_density.h).
+///
 /// Cost: one patch of ~10⁴ triangles cut, remeshed and factorised per shape and sample (about a
 /// second each); results are kept in memory for the process, keyed by shape polygon and ν, so a
 /// sweep or a benchmark pays once.
 #include <vector>
 
 #include "host/scene/load_case.h"
+#include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
 #include "host/stencil/stencil_shape.h"
 #include "solvers/homogenise/cell_homogenisation.h"
+#include "solvers/shell/cell_filter.h"
+
+namespace cutwork {
+class PatternContext;
+}
 
 namespace cutwork::solvers {
 
@@ -36,5 +47,13 @@ MechanicsSettings scene_mechanics(const Scene& scene);
 /// Linear or already filled).
 MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,
                                          const Material& material);
+
+/// The fill-ratio filter of the scene's mechanics (mechanics.filter) on `sim`: the identity for
+/// "none"; for "cell", cell_filter.h's filter with the pattern's nominal stencil diameter
+/// d = 2 ℓ σ and spacing a = 2 (1 + s) ℓ σ at each face (ℓ the context's unit, s the collision
+/// safety factor, σ the sizing field at the closest point of the face's centroid on the base
+/// surface): the centre distance of two nominal stencils that touch with their safety margins.
+/// Built from the scene alone, not from the stencils, so it is fixed while they move.
+CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim);
 
 }  // namespace cutwork::solvers

@@ -1,6 +1,7 @@
 #include "solvers/objective/structural_quantities.h"
 
 #include "solvers/objective/energy_density.h"
+#include "solvers/objective/peak_energy_density.h"
 #include "solvers/shell/fill_ratio_partials.h"
 #include "solvers/shell/shell_energy.h"
 
@@ -53,6 +54,15 @@ EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3
       s.W_max = s.energy_density[f];
       s.W_max_face = f;
     }
+  const ConcentrationMap K(model.mechanics().stiffness_curve);
+  if (!K.empty()) {
+    s.peak_energy_density = peak_energy_density(model, x, alpha, K);
+    for (int f = 0; f < model.num_faces(); ++f)
+      if (faces[size_t(f)] && (s.W_peak_max_face < 0 || s.peak_energy_density[f] > s.W_peak_max)) {
+        s.W_peak_max = s.peak_energy_density[f];
+        s.W_peak_max_face = f;
+      }
+  }
   return s;
 }
 

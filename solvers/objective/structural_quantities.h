@@ -13,6 +13,7 @@
 /// (everything cut away) both maxima run over the whole mesh.
 /// At a linear-elastic equilibrium C = 2Ŵ; with the geometric nonlinearity of the shell they
 /// differ, which is why both are reported. x: #V×3 (m); alpha: #F.
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -38,10 +39,16 @@ struct EquilibriumScalars {
   int max_displacement_vertex = -1;
   double W_max = 0;              ///< J/m², over faces of material
   int W_max_face = -1;
+  /// max_i W_peak_i (peak_energy_density.h: W at the holes' rims, from the cell problems'
+  /// concentration factors), J/m², over the same faces as W_max. NaN (face −1) when the model's
+  /// mechanics carries no concentration samples (mechanics.stiffness other than homogenised).
+  double W_peak_max = std::numeric_limits<double>::quiet_NaN();
+  int W_peak_max_face = -1;
 };
 
 struct EquilibriumSummary : EquilibriumScalars {
   Eigen::VectorXd energy_density;  ///< #F, J/m² (every face, filler included)
+  Eigen::VectorXd peak_energy_density;  ///< #F, J/m²; empty without concentration samples
 };
 
 EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha);

@@ -2,6 +2,8 @@
 
 #include "host/core/error.h"
 #include "host/pattern/overlaps.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
+#include "solvers/objective/energy_density_reference.h"
 
 namespace cutwork::solvers {
 
@@ -39,6 +41,16 @@ PatternPhaseResult pattern_phase(PatternContext& ctx, const DesignOptions& optio
   return pattern;
 }
 
+}  // namespace
+
+double beta_reference(const DesignState& uncut, const SurfaceMesh& sim) {
+  const EnergyDensityQuantile q =
+      energy_density_quantile(uncut.summary.energy_density, sim.face_areas(), material_faces(uncut.alpha));
+  return q.value > 0 ? q.value : uncut.summary.W_max;
+}
+
+namespace {
+
 /// The structural phase (from the pattern design), or what a checkpoint says of it; the shell is
 /// restored to a checkpoint's state first.
 StructurePhaseResult structure_phase(const Scene& scene, PatternContext& ctx, StencilledShell& shell,
@@ -61,7 +73,7 @@ StructurePhaseResult structure_phase(const Scene& scene, PatternContext& ctx, St
     so.checkpoints.resume = &resume->phase;
   }
   StructurePhaseResult structure =
-      run_structure_phase(ctx, shell, scene.structure, r.pattern.layout, r.uncut.summary.W_max, so);
+      run_structure_phase(ctx, shell, scene.structure, r.pattern.layout, beta_reference(r.uncut, shell.model().mesh()), so);
   if (options.checkpoint)
     options.checkpoint({DesignStage::StructureEnd, r.pattern, &structure, nullptr, &shell.equilibrium_stencils(),
                         &shell.solver().positions()});
@@ -77,6 +89,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material,
                         scene.mechanics, load_case, ctx.shapes(),
                         ctx.surface().field(), options.fill);
+  shell.set_cell_filter(scene_cell_filter(scene, ctx, meshes.sim));
   r.timings.add("model", sw.seconds());
 
   sw.restart();

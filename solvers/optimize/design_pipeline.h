@@ -86,6 +86,12 @@ struct DesignResult {
   StencilledShell::StageTimes stage_times;        ///< fill / equilibrium / adjoint totals
 };
 
+/// The reference energy density that structure.beta is a fraction of: the uncut shell's W_q, the
+/// area quantile of energy_density_reference.h (the faces above it cover 2% of the material),
+/// which converges under refinement where W_max diverges (re-entrant clamped corners, point-like
+/// loads); W_max when W_q is 0 (nearly all the material unstrained). `uncut.alpha` is all ones.
+double beta_reference(const DesignState& uncut, const SurfaceMesh& sim);
+
 /// Runs the design of `scene` on `meshes` with supports and loads `load_case` (resolved on the
 /// simulation mesh) and the pattern context `ctx` (built from the same scene and meshes).
 /// Throws InputError / SolveError with a message naming the problem (e.g. a pattern design

@@ -18,17 +18,30 @@ StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_
   m_alpha = Eigen::VectorXd::Ones(sim.num_faces());
 }
 
+void StencilledShell::set_cell_filter(CellFilter filter) {
+  if (!filter.identity() && filter.matrix().rows() != m_sim->num_faces())
+    throw InternalError("StencilledShell::set_cell_filter: the filter is not built on the simulation mesh");
+  m_filter = std::move(filter);
+  if (m_filter.identity()) m_face_alpha.resize(0);
+}
+
 const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilParams> stencils) {
   m_num_stencils = int(stencils.size());
   m_stencils.assign(stencils.begin(), stencils.end());
   m_derivatives = m_fill->options().derivatives && !stencils.empty();
   if (stencils.empty()) {
     m_alpha.setOnes(m_sim->num_faces());
+    if (!m_filter.identity()) m_face_alpha = m_alpha;
     return m_alpha;
   }
   Stopwatch sw;
   m_fill->evaluate(stencils);
-  m_alpha = m_fill->alpha();
+  if (m_filter.identity()) {
+    m_alpha = m_fill->alpha();
+  } else {
+    m_face_alpha = m_fill->alpha();
+    m_alpha = m_filter.apply(m_face_alpha);
+  }
   m_times.fill += sw.seconds();
   ++m_times.fills;
   return m_alpha;
@@ -69,7 +82,7 @@ void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::Vec
   m_times.adjoint += sw.seconds();
   ++m_times.adjoints;
   sw.restart();
-  m_fill->pullback(s.gradient, d_params);
+  m_fill->pullback(m_filter.pull_back(s.gradient), d_params);
   m_times.pullback += sw.seconds();
   if (d_alpha) *d_alpha = s.gradient;
 }
@@ -80,12 +93,12 @@ double StencilledShell::covered_area(Eigen::VectorXd* d_params) const {
     if (!m_derivatives) throw InternalError("StencilledShell::covered_area: derivatives were not computed");
     m_fill->pullback(-A, *d_params);
   }
-  return A.sum() - A.dot(m_alpha);
+  return A.sum() - A.dot(face_alpha());
 }
 
 double StencilledShell::material_fraction() const {
   const Eigen::VectorXd& A = m_sim->face_areas();
-  return A.dot(m_alpha) / A.sum();
+  return A.dot(face_alpha()) / A.sum();
 }
 
 }  // namespace cutwork::solvers

@@ -5,12 +5,14 @@
 ///
 ///   p ──► α(p)        fill ratios of the simulation mesh's triangles (FillRatioEvaluator:
 ///                     frames on the base surface, broad phase, clip and fill kernels on the
-///                     chosen backend), with the sparse dα/dp
+///                     chosen backend), with the sparse dα/dp, then the cell filter B
+///                     (solvers/shell/cell_filter.h; the identity unless set): the shell sees B α
 ///     ──► x(α)        static equilibrium (EquilibriumSolver: Newton, warm-started from the
 ///                     previous equilibrium, CHOLMOD factor kept for the adjoint)
 ///     ──► S(α, x)     any structural objective's terms (solvers/objective)
-///     ──► dS/dp       = (dα/dp)ᵀ dS/dα with dS/dα from the adjoint (13)–(15): one solve with
-///                     the converged factor, then the fill kernel's pull-back.
+///     ──► dS/dp       = (dα/dp)ᵀ Bᵀ dS/dᾱ with dS/dᾱ from the adjoint (13)–(15): one solve
+///                     with the converged factor, then the filter's and the fill kernel's
+///                     pull-backs.
 ///
 /// Every stencil parameter vector is p = (q_x, q_y, q_z, s, φ) per stencil, stencil-major
 /// (#S×5), as in kernels/fill/fill.h. Lengths in metres, energies in joules.
@@ -27,6 +29,7 @@
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/objective_terms.h"
 #include "solvers/objective/structural_quantities.h"
+#include "solvers/shell/cell_filter.h"
 #include "solvers/shell/shell_model.h"
 
 namespace cutwork::solvers {
@@ -42,11 +45,19 @@ class StencilledShell {
   StencilledShell(const StencilledShell&) = delete;
   StencilledShell& operator=(const StencilledShell&) = delete;
 
+  /// The fill-ratio filter (fill_stiffness_calibration.h's scene_cell_filter; the identity
+  /// until set). Set it before the first set_stencils; it must be built on the simulation mesh.
+  void set_cell_filter(CellFilter filter);
+  const CellFilter& cell_filter() const { return m_filter; }
+
   /// α for `stencils`, with dα/dp when fill_options.derivatives (the default); an empty span
   /// gives the uncut shell (α = 1). Throws InputError for invalid stencils.
   const Eigen::VectorXd& set_stencils(std::span<const StencilParams> stencils);
-  /// The fill ratios of the last set_stencils (#F), and its stencils.
+  /// The fill ratios the shell sees after the last set_stencils (#F): the filtered B α, which
+  /// is the kernels' α without a filter. And its stencils.
   const Eigen::VectorXd& alpha() const { return m_alpha; }
+  /// The kernels' own fill ratios of the last set_stencils (#F), before the filter.
+  const Eigen::VectorXd& face_alpha() const { return m_filter.identity() ? m_alpha : m_face_alpha; }
   const std::vector<StencilParams>& stencils() const { return m_stencils; }
 
   /// The stencils of the last equilibrium (the last successful equilibrate() or
@@ -67,14 +78,16 @@ class StencilledShell {
   EquilibriumSummary summary() const;
 
   /// dS/dp (#S×5) of an objective whose terms were evaluated at the last equilibrium, by the
-  /// adjoint and the pull-back; needs fill-ratio derivatives and at least one stencil. Returns dS/dα (#F) too when `d_alpha` is not null.
+  /// adjoint and the pull-back; needs fill-ratio derivatives and at least one stencil. Returns
+  /// dS/dᾱ (#F, with respect to the filtered fill ratios alpha()) too when `d_alpha` is not null.
   void parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,
                           Eigen::VectorXd* d_alpha = nullptr);
 
-  /// Area removed by the stencils on the simulation mesh, Σ_t A_t (1 − α_t) (m²), and its
-  /// gradient (#S×5) when `d_params` is not null (needs derivatives).
+  /// Area removed by the stencils on the simulation mesh, Σ_t A_t (1 − α_t) (m²) with the
+  /// kernels' α (face_alpha(): the filter does not conserve it exactly), and its gradient (#S×5)
+  /// when `d_params` is not null (needs derivatives).
   double covered_area(Eigen::VectorXd* d_params) const;
-  /// Σ α_t A_t / Σ A_t: the fraction of the shell's material left.
+  /// Σ α_t A_t / Σ A_t with face_alpha(): the fraction of the shell's material left.
   double material_fraction() const;
 
   const ShellModel& model() const { return *m_model; }
@@ -96,7 +109,9 @@ class StencilledShell {
   std::unique_ptr<ShellModel> m_model;
   std::unique_ptr<EquilibriumSolver> m_solver;
   std::unique_ptr<FillRatioEvaluator> m_fill;
-  Eigen::VectorXd m_alpha;
+  CellFilter m_filter;
+  Eigen::VectorXd m_alpha;       ///< B α (what the shell sees)
+  Eigen::VectorXd m_face_alpha;  ///< α (with a filter; empty without)
   std::vector<StencilParams> m_stencils;
   std::vector<StencilParams> m_equilibrium_stencils;
   int m_num_stencils = 0;

@@ -41,7 +41,7 @@ namespace cutwork::solvers {
 /// The joint term w_S·S of (19) on a StencilledShell (see the file comment for the objectives).
 class StructuralTerm final : public JointTerm {
  public:
-  /// `w_ref` (J/m²) scales energy densities (the uncut shell's W_max); `c_ref` (J) compliance.
+  /// `w_ref` (J/m²) scales energy densities (the uncut shell's beta_reference); `c_ref` (J) compliance.
   /// For Compliance, `target_covered_area` (m², simulation mesh) is the constraint's value.
   StructuralTerm(StencilledShell& shell, StructuralObjective objective, double w_S, double beta,
                  double w_ref, double c_ref, double target_covered_area);
@@ -120,8 +120,8 @@ struct StructurePhaseOptions {
 };
 
 /// Runs the structural phase from `start` (the pattern design on ctx's surface). `shell` must be
-/// built on the scene's simulation mesh with the context's shapes and field; `w_ref` is W_max of
-/// the uncut shell. Throws SolveError when the pattern design itself has no stable equilibrium.
+/// built on the scene's simulation mesh with the context's shapes and field; `w_ref` is the uncut
+/// shell's reference energy density (design_pipeline.h's beta_reference). Throws SolveError when the pattern design itself has no stable equilibrium.
 StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& shell, const StructureSettings& settings,
                                          const StencilLayout& start, double w_ref,
                                          const StructurePhaseOptions& options = {});

@@ -13,6 +13,8 @@
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/discretisation_estimate.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/objective/energy_density_reference.h"
+#include "solvers/objective/peak_energy_density.h"
 #include "solvers/report/run_report.h"
 
 namespace cutwork::solvers {
@@ -62,10 +64,15 @@ json structure_json(const Scene& scene, const DesignResult& r) {
   json st = {{"objective", s ? s->objective : "none"},
              {"w_S", scene.structure.w_S},
              {"beta", s ? number_or_null(s->beta) : json(nullptr)},
-             {"beta_fraction", s && std::isfinite(s->beta) ? json(s->beta / r.uncut.summary.W_max) : json(nullptr)},
+             {"beta_fraction", s && std::isfinite(s->beta) && s->w_ref > 0 ? json(s->beta / s->w_ref) : json(nullptr)},
+             {"beta_reference", s ? number_or_null(s->w_ref) : json(nullptr)},
              {"W_max_uncut", r.uncut.summary.W_max},
              {"W_max_pattern", r.pattern_design.summary.W_max},
              {"W_max_final", r.final_design.summary.W_max},
+             {"W_peak_max_uncut", number_or_null(r.uncut.summary.W_peak_max)},
+             {"W_peak_max_final", number_or_null(r.final_design.summary.W_peak_max)},
+             {"W_peak_rule", std::isfinite(r.final_design.summary.W_peak_max) ? kPeakEnergyDensityRule
+                                                                              : kPeakEnergyDensityAbsent},
              {"compliance_uncut", r.uncut.summary.compliance},
              {"compliance_pattern", r.pattern_design.summary.compliance},
              {"compliance_final", r.final_design.summary.compliance},
@@ -92,6 +99,8 @@ json structure_json(const Scene& scene, const DesignResult& r) {
 json design_state_json(const DesignState& d) {
   return {{"stencils", d.stencils},
           {"W_max", d.summary.W_max},
+          {"W_peak_max", number_or_null(d.summary.W_peak_max)},
+          {"W_peak_max_face", d.summary.W_peak_max_face},
           {"compliance", d.summary.compliance},
           {"strain_energy", d.summary.strain_energy},
           {"max_displacement", d.summary.max_displacement},
@@ -116,6 +125,21 @@ json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternC
                        {"field_symmetry", r.pattern.field_symmetry},
                        {"w_P", scene.pattern.w_P}};
   report["structure"] = structure_json(scene, r);
+  // The converging reference of energy_density_reference.h that β is a fraction of (beta_reference).
+  if (r.uncut.summary.energy_density.size() == meshes.sim.num_faces()) {
+    const Eigen::VectorXd& W = r.uncut.summary.energy_density;
+    const std::vector<bool> material = r.uncut.alpha.size() == W.size() ? material_faces(r.uncut.alpha)
+                                                                         : std::vector<bool>(size_t(W.size()), true);
+    const EnergyDensityQuantile q = energy_density_quantile(W, meshes.sim.face_areas(), material);
+    report["structure"]["W_reference_uncut"] = {
+        {"rule", "area quantile: the faces of material with W above it cover at most this fraction of the "
+                 "material area (solvers/objective/energy_density_reference.h); beta is this fraction of it"},
+        {"area_fraction", kReferenceAreaFraction},
+        {"W", q.value},
+        {"faces_excluded", q.faces_above},
+        {"area_excluded", q.area_above},
+        {"W_max_over_W", q.value > 0 ? json(r.uncut.summary.W_max / q.value) : json(nullptr)}};
+  }
   report["equilibrium"] = design_state_json(r.final_design);
   report["designs"] = {{"uncut", design_state_json(r.uncut)},
                        {"pattern", design_state_json(r.pattern_design)},
@@ -157,7 +181,7 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     const DiscretisationEstimate final_design = estimate_discretisation(
         scene, refined,
         [&](const SurfaceMesh& m) {
-          return fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), m, final_params);
+          return design_fill_ratios(scene, ctx, m, final_params);
         },
         mechanics, result.final_design.summary, h, meshes.sim.num_faces());
     discretisation = {{"uncut", discretisation_json(uncut)},

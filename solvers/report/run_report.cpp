@@ -25,7 +25,8 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                {"map_max_distance", meshes.map.max_distance}};
   const MechanicsSettings mechanics = scene_mechanics(scene);
   r["mechanics"] = {{"bending", mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
-                    {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"}};
+                    {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
+                    {"filter", mechanics.filter == FillFilter::Cell ? "cell" : "none"}};
   if (!mechanics.stiffness_curve.empty())
     r["mechanics"]["stiffness_curve"] = {{"alpha", mechanics.stiffness_curve.alpha},
                                          {"membrane_ratio", mechanics.stiffness_curve.membrane},

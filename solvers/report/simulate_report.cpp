@@ -1,5 +1,8 @@
 #include "solvers/report/simulate_report.h"
 
+#include <cmath>
+
+#include "solvers/objective/peak_energy_density.h"
 #include "solvers/report/run_report.h"
 
 namespace cutwork::solvers {
@@ -17,6 +20,11 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
       {"compliance", summary.compliance},
       {"W_max", summary.W_max},
       {"W_max_face", summary.W_max_face},
+      {"W_peak_max", number_or_null(summary.W_peak_max)},
+      {"W_peak_max_face", summary.W_peak_max_face},
+      {"W_peak_rule", std::isfinite(summary.W_peak_max)
+                          ? nlohmann::json(kPeakEnergyDensityRule)
+                          : nlohmann::json(kPeakEnergyDensityAbsent)},
       {"newton_iterations", stats.newton_iterations},
       {"residual", stats.residual},
       {"converged", stats.converged},
@@ -26,7 +34,7 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
       {"factorizations", stats.factorizations},
       {"shifted_factorizations", stats.shifted_factorizations},
       {"units", {{"max_displacement", "m"}, {"strain_energy", "J"}, {"compliance", "J"}, {"W_max", "J/m^2"},
-                 {"load_norm", "N"}, {"residual", "force residual / load norm"}}}};
+                 {"W_peak_max", "J/m^2"}, {"load_norm", "N"}, {"residual", "force residual / load norm"}}}};
   const ShellStiffness& k = model.stiffness();
   report["material"] = {{"youngs_modulus", scene.material.youngs_modulus},
                         {"poisson_ratio", scene.material.poisson_ratio},

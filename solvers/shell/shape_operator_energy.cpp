@@ -94,7 +94,10 @@ ShapeOperatorRest shape_operator_rest(const std::array<Vec3, 6>& X, const std::a
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(V, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Eigen::VectorXd& sigma = svd.singularValues();
-  const double cutoff = 1e-8 * sigma[0];
+  // Modes the nodes barely determine are condensed like a free edge's (see the header: a rim patch
+  // with four nearly collinear nodes would otherwise read the across-rim curvature off the rim's
+  // in-plane wiggle, with weights and stiffness amplified by 1/σ and 1/σ²).
+  const double cutoff = kShapeOperatorModeCutoff * sigma[0];
   int rank = 0;
   while (rank < sigma.size() && sigma[rank] > cutoff) ++rank;
   // Pseudo-inverse over the well-determined modes: coefficients c = V⁺ x.

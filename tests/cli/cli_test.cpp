@@ -197,6 +197,14 @@ TEST(Cli, DesignRunsThePipelineForEveryBuiltinScene) {
                             "compliance_final", "material_fraction_pattern", "material_fraction_final", "overlaps"})
       EXPECT_TRUE(report["structure"].contains(key)) << key;
     EXPECT_EQ(report["structure"]["overlaps"], 0);
+    // The converging reference beside W_max (energy_density_reference.h): at most W_max.
+    const auto& ref = report["structure"]["W_reference_uncut"];
+    ASSERT_TRUE(ref.is_object());
+    EXPECT_GT(ref["W"].get<double>(), 0);
+    EXPECT_LE(ref["W"].get<double>(), report["structure"]["W_max_uncut"].get<double>());
+    EXPECT_GE(ref["faces_excluded"].get<int>(), 0);
+    EXPECT_GE(ref["area_excluded"].get<double>(), 0);
+    EXPECT_GE(ref["W_max_over_W"].get<double>(), 1);
     // stencils.json holds the report's stencils.
     const auto stencils = read_json(out / "stencils.json");
     EXPECT_EQ(stencils["stencils"].size(), report["stencils"]["count"].get<size_t>());

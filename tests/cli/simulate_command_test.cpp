@@ -171,6 +171,12 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   EXPECT_EQ(lin["solver"]["stiffness"], "linear");
   const double w_design = design["structure"]["W_max_final"], w_sim = hom["equilibrium"]["W_max"];
   EXPECT_NEAR(w_sim, w_design, 1e-6 * w_design);
+  // W_peak (peak_energy_density.h) only where the cell problems gave concentration factors (> 1).
+  const double wp_design = design["structure"]["W_peak_max_final"], wp_sim = hom["equilibrium"]["W_peak_max"];
+  EXPECT_NEAR(wp_sim, wp_design, 1e-6 * wp_design);
+  EXPECT_GT(wp_sim, w_sim);
+  EXPECT_TRUE(lin["equilibrium"]["W_peak_max"].is_null());
+  EXPECT_EQ(lin["equilibrium"]["W_peak_max_face"], -1);
   EXPECT_GT(hom["equilibrium"]["compliance"].get<double>(), 1.02 * lin["equilibrium"]["compliance"].get<double>());
 
   scene["mechanics"]["stiffness"] = "periodic";

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "host/pattern/overlaps.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/optimize/design_pipeline.h"
 #include "tests/solvers/support/finite_difference.h"
 
@@ -27,12 +28,13 @@ Scene scene_from(const std::string& name, const json& patch = json::object()) {
 /// J(p) = w_S S(α(p), x(α(p))) + w_P P(p) through joint_objective — the function the optimiser
 /// minimises — against central differences along random directions in p = (q, s, φ)
 /// (the restoration of compliance's area constraint included).
-void check_joint_gradient(const char* objective, unsigned seed) {
+void check_joint_gradient(const char* objective, unsigned seed, const json& mechanics = json::object()) {
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   // Stencils of 6 mm diameter on 10 mm simulation triangles: no triangle is ever covered
   // entirely, so no fill ratio sits at its clamp 1e-4 (a kink of α, where no derivative exists).
   const Scene scene = scene_from("plate", {{"pattern", {{"count", 40}, {"scale", 0.003}, {"seed", int(seed)}}},
-                                           {"structure", {{"objective", objective}, {"beta", 0.05}}}});
+                                           {"structure", {{"objective", objective}, {"beta", 0.05}}},
+                                           {"mechanics", mechanics}});
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
   PatternContext ctx(scene, meshes);
@@ -45,6 +47,12 @@ void check_joint_gradient(const char* objective, unsigned seed) {
   newton.residual_tolerance = 1e-12;  // FD of S resolves x(α) to what Newton converged to
   StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material, scene.mechanics, lc, ctx.shapes(), ctx.surface().field(), {},
                         newton);
+  shell.set_cell_filter(scene_cell_filter(scene, ctx, meshes.sim));
+  if (scene.mechanics.filter == FillFilter::Cell) {
+    // The filter is at work: every row averages over its neighbours (b = 1 at h/d ≈ 1.7).
+    ASSERT_FALSE(shell.cell_filter().identity());
+    EXPECT_GT(shell.cell_filter().mean_row_size(), 3);
+  }
   shell.set_stencils(layout_params(layout));
   shell.equilibrate();
   const EquilibriumSummary uncut_like = shell.summary();
@@ -94,6 +102,13 @@ TEST(JointGradient, EnergyDensityMatchesFiniteDifferencesOfTheWholePipeline) {
 }
 
 TEST(JointGradient, ComplianceWithRestoredAreaMatchesFiniteDifferences) { check_joint_gradient("compliance", 4); }
+
+// The cell filter (solvers/shell/cell_filter.h) between the kernels and the shell, with the
+// homogenised fill stiffness it is made for: its pull-back Bᵀ in the chain.
+TEST(JointGradient, CellFilteredHomogenisedStiffnessMatchesFiniteDifferences) {
+  check_joint_gradient("energy_density", 5, {{"stiffness", "homogenised"}, {"filter", "cell"}});
+  check_joint_gradient("compliance", 6, {{"stiffness", "homogenised"}, {"filter", "cell"}});
+}
 
 // ---------------------------------------------------------------- the plate (Fig. 5)
 

@@ -114,6 +114,28 @@ TEST(ShapeOperatorEnergy, RigidMotionsAndInPlaneStretchCostNothing) {
   }
 }
 
+TEST(ShapeOperatorEnergy, ARimPatchWithNearlyCollinearNodesCondensesLikeAStraightRim) {
+  // A face on a hole rim (free edge X2–X0) between two rim faces: their opposite vertices X3, X5
+  // lie on the rim too, a distance ε·h off the line of f's rim edge (a remeshed outline wiggles).
+  // At ε = 0 four nodes are collinear and two modes are condensed; for small ε the weights must
+  // tend to those (the mode is no better determined), not grow like 1/ε. Measured with the
+  // round-off cutoff 1e-8: max|Q|·A = 0.26 at ε = 0, 9.0e3 at 1e-4, 9.0e6 at 1e-7 (the chair's
+  // conforming mesh had such a patch at 4.5e5 and a singular stiffness); with the cutoff 1e-3,
+  // |Q(ε) − Q(0)|·A = 0.52 ε.
+  const double h = 0.01;
+  auto rest_at = [&](double eps) {
+    const std::array<Vec3, 6> X = {Vec3(0, 0, 0),          Vec3(0.5 * h, -0.8 * h, 0), Vec3(h, 0, 0),
+                                   Vec3(1.7 * h, eps * h, 0), Vec3::Zero(),            Vec3(-0.6 * h, -0.5 * eps * h, 0)};
+    return shape_operator_rest(X, {PatchNode::Vertex, PatchNode::Free, PatchNode::Vertex}, 0.3);
+  };
+  const ShapeOperatorRest straight = rest_at(0);
+  ASSERT_LT(straight.weights.cwiseAbs().maxCoeff() * straight.area, 1.0);
+  for (double eps : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7}) {
+    const ShapeOperatorRest r = rest_at(eps);
+    EXPECT_LT((r.weights - straight.weights).cwiseAbs().maxCoeff() * r.area, eps) << "eps " << eps;
+  }
+}
+
 TEST(ShapeOperatorEnergy, CurvedRestShapesKeepTheirRestCurvature) {
   // Every built-in shape at its simulation resolution, clamped along part of its boundary (ghosts
   // included): zero bending energy and force at rest, and a nonzero rest curvature where curved.

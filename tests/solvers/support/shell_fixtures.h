@@ -27,7 +27,9 @@ inline Material pa12() {
 inline FillStiffnessCurve test_stiffness_curve() {
   return {{0.3, 0.45, 0.6, 0.75, 0.9, 1.0},
           {0.30, 0.41, 0.55, 0.70, 0.86, 1.0},
-          {0.42, 0.52, 0.63, 0.76, 0.90, 1.0}};
+          {0.42, 0.52, 0.63, 0.76, 0.90, 1.0},
+          {},
+          {}};
 }
 
 struct CapFixture {

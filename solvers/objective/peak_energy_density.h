@@ -1,0 +1,74 @@
+#pragma once
+/// Peak energy density at the ligaments between holes (issue 21 item 5, beyond the paper).
+///
+/// A coarse face's W (energy_density.h) is a mean over the face's material: a hole's rim carries
+/// more. The cell problems (solvers/homogenise/cell_homogenisation.h) measure, per stencil shape and
+/// fill ratio, the concentration factor K = peak W / mean W over a periodic cell's material (the
+/// largest over the macroscopic stress states: uniaxial at every angle, equibiaxial, pure shear;
+/// separately for membrane and bending). The calibrated curve (FillStiffnessCurve's
+/// membrane_concentration, bending_concentration) carries K at its sample fill ratios.
+///
+/// The rule. Per face t,
+///     W_peak_t = K_m(α_t) W_t^memb + K_b(α_t) W_t^bend,
+/// the mean energy densities of perforated material at the face's macroscopic strain and curvature:
+///     W_t^memb = r_m(α_t) U_t^memb / A_t,   W_t^bend = (r_b(α_t) / r_b^model(α_t)) (W_t − r_m^model U_t^memb / A_t),
+/// U_t^memb the face's membrane element energy at unit fill, r the calibrated ratios of the curve,
+/// r^model those the shell's elements use (r^model = r under the homogenised stiffness rule, 1 under
+/// the linear one), W_t − r_m^model U_t^memb / A_t the bending part of W_t whatever the bending
+/// model. Under the homogenised rule the two parts add up to W_t. Under the linear rule they do not:
+/// the linear rule's faces are stiffer than perforated material, and at the strain the linear model
+/// computes, perforated material stores r U/A per area of material (not U/A) — the rule takes the
+/// model's strain as given; where the load, not the strain, is prescribed, the linear model's strain
+/// and so its W_peak are too small by about r. K_m and K_b apply to their own parts: a plate's
+/// membrane and bending peaks sit at the same rim points, so adding them bounds the peak of the sum
+/// from above (up to the cross term). A face with α_t = 1 exactly is uncut: K = 1, r = 1,
+/// W_peak_t = W_t.
+///
+/// K(α) between samples: the shape-preserving cubic of fill_stiffness_map.h (PCHIP; K need not be
+/// monotone, PCHIP does not overshoot the samples and is C¹), held constant outside the samples.
+/// The last sample (α = 1) holds the dilute limit (a vanishing hole still concentrates stress, as
+/// Kirsch's hole does), not the uncut value 1. Units: W in J/m².
+#include <Eigen/Core>
+
+#include "host/scene/load_case.h"
+#include "solvers/shell/fill_stiffness_map.h"
+#include "solvers/shell/shell_model.h"
+
+namespace cutwork::solvers {
+
+/// The rule above in a line, for reports.
+inline constexpr const char* kPeakEnergyDensityRule =
+    "W_peak = K_m(alpha) W_membrane + K_b(alpha) W_bending per face, K = peak/mean energy density over a periodic "
+    "cell's material from the cell problems (worst over shapes and stress states; K = 1 at alpha = 1); max over "
+    "material faces";
+/// What reports say instead when the mechanics carries no concentration samples (W_peak null).
+inline constexpr const char* kPeakEnergyDensityAbsent =
+    "not computed: no concentration factors (mechanics.stiffness is not homogenised)";
+
+/// K_m(α), K_b(α) of a calibrated curve.
+class ConcentrationMap {
+ public:
+  /// No calibration: empty().
+  ConcentrationMap() = default;
+  /// From the curve's concentration samples; empty() when it has none. Throws InputError for
+  /// samples of the wrong size or below 1.
+  explicit ConcentrationMap(const FillStiffnessCurve& curve);
+
+  bool empty() const { return m_membrane.empty(); }
+  /// K_m(α) (1 at α = 1 exactly, and when empty()).
+  double membrane(double alpha) const { return apply(m_membrane, alpha); }
+  double bending(double alpha) const { return apply(m_bending, alpha); }
+
+ private:
+  static double apply(const MonotoneCurve& k, double alpha);
+  MonotoneCurve m_membrane, m_bending, m_membrane_ratio, m_bending_ratio;
+  friend Eigen::VectorXd peak_energy_density(const ShellModel&, const RowMatX3d&, const Eigen::VectorXd&,
+                                             const ConcentrationMap&);
+};
+
+/// W_peak (#F, J/m²) of the rule above at positions x (#V×3) and fill ratios alpha (#F).
+/// Precondition: !K.empty().
+Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                                    const ConcentrationMap& K);
+
+}  // namespace cutwork::solvers

@@ -1,0 +1,280 @@
+// The perforated-lattice suite of issue 21: a plate perforated by a regular lattice of stencils,
+// simulated on coarse meshes with fill ratios (triangles ½, 1 and 2 hole diameters across) and
+// compared with the converged conforming reference (the plate cut along every outline, refined
+// until the compliance changes by less than 1%, Richardson-extrapolated). The coarse compliance
+// under each fill rule — the paper's linear g(α) = α per face, the homogenised g(α) per face, and
+// the homogenised g at the cell-filtered α (solvers/shell/cell_filter.h) — is the number a design
+// iteration sees; the conforming one is what the built plate does.
+//
+// Scenes: a 0.2 m × 0.1 m PA12 plate, 3 mm, either a cantilever (clamped at x = −0.1, 0.1 N spread
+// along the free short side) or clamped round its whole boundary under 100 Pa. The lattice
+// (hexagonal or square, spacing a = 10 mm) covers the plate with its stencils at least a/2 from the
+// border; the stencil scale follows from the fill ratio asked for. The pattern's safety factor
+// s = a/(2 r) − 1 makes the scene's nominal spacing 2 (1 + s) ℓ equal to the lattice's, as a
+// packing of that density has it.
+//
+// CUTWORK_LATTICE_TABLE=1 prints the whole table (every shape, lattice, α, structure and size)
+// instead of the assertions' subset.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "host/pattern/pattern_context.h"
+#include "host/scene/scene.h"
+#include "solvers/conforming/conforming_verification.h"
+#include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
+#include "solvers/objective/structural_quantities.h"
+
+namespace cutwork::solvers {
+namespace {
+
+constexpr double kSpacing = 0.01;
+
+struct LatticeCase {
+  std::string shape = "circle";  ///< a built-in stencil kind
+  bool hexagonal = true;
+  double alpha = 0.67;           ///< fill ratio of the lattice cell
+  bool cantilever = true;        ///< else clamped round the boundary under pressure
+  double width = 0.2, height = 0.1;  ///< of the plate (m)
+};
+
+nlohmann::json scene_doc(const LatticeCase& c, double bounding_radius, double sim_edge_length, const char* stiffness,
+                         const char* filter) {
+  const double width = c.width, height = c.height;
+  nlohmann::json doc = builtin_scene_json("plate");
+  doc["name"] = "lattice";
+  doc["mesh"]["params"] = {{"width", width}, {"height", height}};
+  doc["mesh"]["edge_length"] = std::min(0.005, sim_edge_length);
+  doc["mesh"]["sim_edge_length"] = sim_edge_length;
+  doc["mechanics"] = {{"stiffness", stiffness}, {"filter", filter}};
+  doc["stencils"] = nlohmann::json::array({{{"name", c.shape}, {"kind", c.shape}, {"params", nlohmann::json::object()}}});
+  doc["pattern"]["scale"] = bounding_radius;
+  doc["pattern"]["s"] = kSpacing / (2 * bounding_radius) - 1;
+  if (c.cantilever) {
+    doc["supports"] = nlohmann::json::array(
+        {{{"type", "clamped"}, {"select", {{"entity", "vertices"}, {"x", {{"below", -width / 2 + 1e-6}}}}}}});
+    doc["loads"] = nlohmann::json::array(
+        {{{"type", "edge"},
+          {"force", {0.0, 0.0, -0.1 / height}},
+          {"select", {{"entity", "boundary_edges"}, {"x", {{"above", width / 2 - 1e-6}}}}}}});
+  } else {
+    doc["supports"] =
+        nlohmann::json::array({{{"type", "clamped"}, {"select", {{"entity", "boundary_vertices"}}}}});
+    doc["loads"] = nlohmann::json::array(
+        {{{"type", "pressure"}, {"pressure", 100.0}, {"select", {{"entity", "faces"}}}}});
+  }
+  return doc;
+}
+
+/// The stencil scale (bounding radius) that perforates the lattice cell down to c.alpha.
+double lattice_scale(const LatticeCase& c, const StencilLibrary& shapes) {
+  const double cell = c.hexagonal ? std::sqrt(3.0) / 2 * kSpacing * kSpacing : kSpacing * kSpacing;
+  return std::sqrt((1 - c.alpha) * cell / shapes[0].area);
+}
+
+std::vector<StencilParams> lattice_stencils(const LatticeCase& c, double scale) {
+  const double width = c.width, height = c.height;
+  std::vector<StencilParams> out;
+  const double dy = c.hexagonal ? kSpacing * std::sqrt(3.0) / 2 : kSpacing;
+  const double x0 = -width / 2 + kSpacing / 2, y0 = -height / 2 + kSpacing / 2;
+  for (int j = 0;; ++j) {
+    const double y = y0 + j * dy;
+    if (y > height / 2 - kSpacing / 2 + 1e-12) break;
+    const double shift = c.hexagonal && (j % 2) ? kSpacing / 2 : 0.0;
+    for (int i = 0;; ++i) {
+      const double x = x0 + shift + i * kSpacing;
+      if (x > width / 2 - kSpacing / 2 + 1e-12) break;
+      StencilParams s;
+      s.position = Vec3(x, y, 0);
+      s.scale = scale;
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
+struct CoarseRun {
+  double compliance = 0;
+  int faces = 0;
+};
+
+CoarseRun coarse_compliance(const nlohmann::json& doc, std::span<const StencilParams> stencils) {
+  const Scene scene = parse_scene(doc, "test:lattice");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const PatternContext ctx(scene, meshes);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  const Eigen::VectorXd alpha = design_fill_ratios(scene, ctx, meshes.sim, stencils);
+  const ShellModel model(meshes.sim, scene.material, lc, resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material));
+  EquilibriumSolver solver(model);
+  solver.solve(alpha);
+  return {summarize_equilibrium(model, solver.positions(), alpha).compliance, meshes.sim.num_faces()};
+}
+
+struct Reference {
+  double compliance = 0, error_bar = 0;
+  bool converged = false;
+  int levels = 0, faces = 0;
+};
+
+/// The conforming reference: from L = d/4 (d the stencil's diameter), refined until 1%.
+Reference conforming_reference(const LatticeCase& c, double scale, std::span<const StencilParams> stencils,
+                               int max_faces = 700'000) {
+  const nlohmann::json doc = scene_doc(c, scale, 0.01, "linear", "none");
+  const Scene scene = parse_scene(doc, "test:lattice");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const PatternContext ctx(scene, meshes);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  ConformingOptions o;
+  o.edge_length = scale / 2;
+  o.levels = 3;
+  o.tolerance = 0.01;
+  o.max_faces = max_faces;
+  const ConformingVerification v = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  return {v.extrapolated_compliance, v.compliance_error_bar, v.converged, int(v.levels.size()), v.levels.back().faces};
+}
+
+struct Ratios {
+  double linear = 0, homogenised = 0, filtered = 0;  ///< coarse / conforming C∞
+  double solid = 0;  ///< the uncut plate on the same coarse mesh / the uncut plate's converged compliance
+  int faces = 0;
+};
+
+struct CaseResult {
+  double scale = 0;
+  Reference reference;
+  Reference solid;  ///< the uncut plate
+  std::vector<Ratios> by_size;  ///< triangles ½, 1, 2 stencil diameters across
+};
+
+/// Triangle sizes in stencil diameters; CUTWORK_LATTICE_SIZES="0.125,0.25" replaces them.
+std::vector<double> lattice_sizes() {
+  std::vector<double> sizes = {0.5, 1.0, 2.0};
+  if (const char* env = std::getenv("CUTWORK_LATTICE_SIZES")) {
+    sizes.clear();
+    for (std::string rest = env; !rest.empty();) {
+      const size_t comma = rest.find(',');
+      sizes.push_back(std::stod(rest.substr(0, comma)));
+      rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    }
+  }
+  return sizes;
+}
+const std::vector<double> kSizes = lattice_sizes();
+
+CaseResult run_case(const LatticeCase& c) {
+  CaseResult r;
+  const Scene probe = parse_scene(scene_doc(c, 0.003, 0.01, "linear", "none"), "test:lattice");
+  r.scale = lattice_scale(c, scene_stencil_library(probe));
+  const std::vector<StencilParams> stencils = lattice_stencils(c, r.scale);
+  r.reference = conforming_reference(c, r.scale, stencils);
+  r.solid = conforming_reference(c, r.scale, {});
+  for (double size : kSizes) {
+    const double h = size * 2 * r.scale;
+    Ratios q;
+    const CoarseRun lin = coarse_compliance(scene_doc(c, r.scale, h, "linear", "none"), stencils);
+    q.linear = lin.compliance / r.reference.compliance;
+    q.faces = lin.faces;
+    q.solid = coarse_compliance(scene_doc(c, r.scale, h, "linear", "none"), {}).compliance / r.solid.compliance;
+    q.homogenised = coarse_compliance(scene_doc(c, r.scale, h, "homogenised", "none"), stencils).compliance /
+                    r.reference.compliance;
+    q.filtered = coarse_compliance(scene_doc(c, r.scale, h, "homogenised", "cell"), stencils).compliance /
+                 r.reference.compliance;
+    r.by_size.push_back(q);
+  }
+  return r;
+}
+
+std::string describe(const LatticeCase& c) {
+  return fmt::format("{} {} α {:.2f} {}", c.shape, c.hexagonal ? "hex" : "square", c.alpha,
+                     c.cantilever ? "cantilever" : "clamped plate");
+}
+
+void print(const LatticeCase& c, const CaseResult& r) {
+  std::string line = fmt::format("{:<38} C∞ {:.4e} ± {:.1f}% ({} levels{}, {} faces)", describe(c),
+                                 r.reference.compliance, 100 * r.reference.error_bar / r.reference.compliance,
+                                 r.reference.levels, r.reference.converged ? ", converged" : "", r.reference.faces);
+  for (size_t k = 0; k < kSizes.size(); ++k)
+    line += fmt::format(
+        "\n    h = {:.1f} d ({:5d} faces): linear {:.3f}  homogenised {:.3f}  cell-filtered {:.3f}  (uncut {:.3f})",
+        kSizes[k], r.by_size[k].faces, r.by_size[k].linear, r.by_size[k].homogenised, r.by_size[k].filtered,
+        r.by_size[k].solid);
+  std::printf("%s\n", line.c_str());
+  std::fflush(stdout);
+}
+
+double compliance(const LatticeCase& c, double scale, double size, const char* stiffness, const char* filter,
+                  std::span<const StencilParams> stencils) {
+  return coarse_compliance(scene_doc(c, scale, size * 2 * scale, stiffness, filter), stencils).compliance;
+}
+
+// What the filter is for: on triangles as large as the stencils or larger, the answer should not
+// depend on how the mesh happens to cut the lattice. Normalised by the uncut plate on the same mesh
+// (the coarse mesh's own discretisation error, 0.5% here), the perforated compliance at 1 and 2
+// stencil diameters: measured 0.3% apart with the filter, 5.6% per face (homogenised g) and 0.3%
+// per face with the linear rule — which is as consistently wrong, by 24%, see the next test.
+TEST(PerforatedLattice, CellFilteredComplianceDoesNotDependOnTheTriangleSize) {
+  const LatticeCase c;  // circles, hexagonal, α = 0.67, cantilever 0.2 m × 0.1 m
+  const Scene probe = parse_scene(scene_doc(c, 0.003, 0.01, "linear", "none"), "test:lattice");
+  const double scale = lattice_scale(c, scene_stencil_library(probe));
+  const std::vector<StencilParams> stencils = lattice_stencils(c, scale);
+  auto normalised = [&](double size, const char* filter) {
+    return compliance(c, scale, size, "homogenised", filter, stencils) /
+           compliance(c, scale, size, "linear", "none", {});
+  };
+  const double filtered_1 = normalised(1, "cell"), filtered_2 = normalised(2, "cell");
+  const double per_face_1 = normalised(1, "none"), per_face_2 = normalised(2, "none");
+  std::printf("perforated / uncut compliance at 1 d and 2 d: cell-filtered %.4f %.4f, per face %.4f %.4f\n",
+              filtered_1, filtered_2, per_face_1, per_face_2);
+  EXPECT_LT(std::abs(filtered_1 / filtered_2 - 1), 0.015);
+  EXPECT_GT(std::abs(per_face_1 / per_face_2 - 1), 0.03);
+}
+
+// Against the conforming reference (refined to 1% or to two levels within 150k triangles), on a
+// 0.12 m × 0.06 m cantilever at triangles one stencil diameter across: the filtered homogenised rule
+// is closer than the per-face homogenised rule, which is closer than the paper's linear rule. The
+// full table (CUTWORK_LATTICE_TABLE=1, in docs/DESIGN.md) has the rest: none is within the issue's
+// 3%; the homogenised stiffness itself is 4–11% too stiff on hexagonal lattices of circles at
+// α 0.85–0.5 and more on square lattices (it is calibrated on the hexagonal one, isotropic).
+TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate) {
+  LatticeCase c;
+  c.width = 0.12;
+  c.height = 0.06;
+  const Scene probe = parse_scene(scene_doc(c, 0.003, 0.01, "linear", "none"), "test:lattice");
+  const double scale = lattice_scale(c, scene_stencil_library(probe));
+  const std::vector<StencilParams> stencils = lattice_stencils(c, scale);
+  const Reference ref = conforming_reference(c, scale, stencils, 150'000);
+  ASSERT_GE(ref.levels, 2);
+  const double linear = compliance(c, scale, 1, "linear", "none", stencils) / ref.compliance;
+  const double per_face = compliance(c, scale, 1, "homogenised", "none", stencils) / ref.compliance;
+  const double filtered = compliance(c, scale, 1, "homogenised", "cell", stencils) / ref.compliance;
+  std::printf("coarse / conforming C∞ (%d levels, error bar %.1f%%): linear %.3f, homogenised %.3f, "
+              "cell-filtered %.3f\n",
+              ref.levels, 100 * ref.error_bar / ref.compliance, linear, per_face, filtered);
+  EXPECT_LT(std::abs(filtered - 1), std::abs(per_face - 1));
+  EXPECT_LT(std::abs(per_face - 1), std::abs(linear - 1));
+}
+
+TEST(PerforatedLattice, Table) {
+  if (!std::getenv("CUTWORK_LATTICE_TABLE")) GTEST_SKIP() << "set CUTWORK_LATTICE_TABLE=1 for the whole table";
+  const char* only = std::getenv("CUTWORK_LATTICE_SHAPE");
+  const char* alphas = std::getenv("CUTWORK_LATTICE_ALPHA");
+  for (const char* shape : {"circle", "star"})
+    for (bool hex : {true, false})
+      for (double alpha : {0.5, 0.67, 0.85})
+        for (bool cantilever : {true, false}) {
+          if (only && std::string(only) != shape) continue;
+          if (alphas && std::abs(std::stod(alphas) - alpha) > 1e-9) continue;
+          const LatticeCase c{shape, hex, alpha, cantilever};
+          print(c, run_case(c));
+        }
+}
+
+}  // namespace
+}  // namespace cutwork::solvers

@@ -1,0 +1,141 @@
+// The peak energy density W_peak of solvers/objective/peak_energy_density.h: with K = 1 it is the
+// mean W; a pure membrane state scales by K_m(α) face by face; an uncut face (α = 1) keeps its W.
+// peak_energy_density exposes no derivative (it is a reported quantity, not an objective).
+// summarize_equilibrium's W_peak_max.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "host/core/error.h"
+#include "solvers/objective/energy_density.h"
+#include "solvers/objective/peak_energy_density.h"
+#include "solvers/objective/structural_quantities.h"
+#include "tests/solvers/support/shell_fixtures.h"
+#include "tests/solvers/support/test_meshes.h"
+
+namespace cutwork::solvers {
+namespace {
+
+FillStiffnessCurve with_concentration(FillStiffnessCurve c, std::vector<double> km, std::vector<double> kb) {
+  c.membrane_concentration = std::move(km);
+  c.bending_concentration = std::move(kb);
+  return c;
+}
+
+TEST(PeakEnergyDensity, UnitConcentrationGivesTheMeanDensity) {
+  for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
+    SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
+    test::CapFixture fx(51, bending, FillStiffness::Homogenised);
+    const ShellModel& model = *fx.model;
+    const RowMatX3d x = fx.perturbed(52);
+    const std::vector<double> ones(test::test_stiffness_curve().alpha.size(), 1.0);
+    const ConcentrationMap K(with_concentration(model.mechanics().stiffness_curve, ones, ones));
+    ASSERT_FALSE(K.empty());
+    const Eigen::VectorXd W = energy_density(model, x, fx.alpha);
+    const Eigen::VectorXd P = peak_energy_density(model, x, fx.alpha, K);
+    ASSERT_EQ(P.size(), W.size());
+    // W_peak = r_m U/A + (r_b/r_b)(W − r_m U/A): W up to the round-off of one subtraction.
+    for (int t = 0; t < W.size(); ++t) EXPECT_NEAR(P[t], W[t], 1e-14 * W.maxCoeff()) << "face " << t;
+  }
+}
+
+TEST(PeakEnergyDensity, UnitConcentrationAndUnitRatiosGiveTheMeanDensityUnderTheLinearRule) {
+  test::CapFixture fx(53);  // linear fill stiffness
+  const ShellModel& model = *fx.model;
+  const RowMatX3d x = fx.perturbed(54);
+  const std::vector<double> a{0.3, 0.6, 1.0}, ones(3, 1.0);
+  const ConcentrationMap K(with_concentration({a, ones, ones, {}, {}}, ones, ones));
+  const Eigen::VectorXd W = energy_density(model, x, fx.alpha);
+  const Eigen::VectorXd P = peak_energy_density(model, x, fx.alpha, K);
+  for (int t = 0; t < W.size(); ++t) EXPECT_NEAR(P[t], W[t], 1e-14 * W.maxCoeff()) << "face " << t;
+}
+
+// A flat plate stretched uniformly in its plane stores membrane energy only: W_peak_t = K_m(α_t) W_t.
+// Faces take sample fill ratios, where the interpolated K_m is the sample itself; K_b differs from
+// K_m so that mixing them up shows.
+TEST(PeakEnergyDensity, UniformMembraneStateScalesByTheMembraneConcentration) {
+  const SurfaceMesh mesh = test::grid_rectangle(0.4, 0.3, 6, 5);
+  LoadCase lc;
+  lc.fixed.assign(mesh.num_vertices(), false);
+  lc.clamped.assign(mesh.num_vertices(), false);
+  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() < 1e-9; })) lc.fixed[v] = lc.clamped[v] = true;
+  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() > 0.4 - 1e-9; })) lc.forces(v, 0) = 1;
+  MechanicsSettings mech;
+  mech.stiffness = FillStiffness::Homogenised;
+  const FillStiffnessCurve base = test::test_stiffness_curve();  // α = 0.3 0.45 0.6 0.75 0.9 1
+  const std::vector<double> km{3.1, 2.7, 2.4, 2.2, 2.05, 2.0}, kb{1.9, 1.8, 1.7, 1.6, 1.5, 1.45};
+  mech.stiffness_curve = with_concentration(base, km, kb);
+  const ShellModel model(mesh, test::pa12(), lc, mech);
+  const ConcentrationMap K(model.mechanics().stiffness_curve);
+
+  // Uniform strain: ε_xx = 1e-3, ε_yy = −0.4e-3, γ_xy = 0.6e-3 (displacement gradient, small).
+  RowMatX3d x = mesh.vertices();
+  for (int v = 0; v < x.rows(); ++v) {
+    const double X = x(v, 0), Y = x(v, 1);
+    x(v, 0) += 1e-3 * X + 0.3e-3 * Y;
+    x(v, 1) += 0.3e-3 * X - 0.4e-3 * Y;
+  }
+  Eigen::VectorXd alpha(mesh.num_faces());
+  const std::vector<int> pick{0, 1, 2, 3, 4, 5};  // every sample, the uncut α = 1 included
+  for (int t = 0; t < alpha.size(); ++t) alpha[t] = base.alpha[size_t(pick[size_t(t % 6)])];
+  const Eigen::VectorXd W = energy_density(model, x, alpha);
+  const Eigen::VectorXd P = peak_energy_density(model, x, alpha, K);
+  ASSERT_GT(W.minCoeff(), 0.0);
+  for (int t = 0; t < W.size(); ++t) {
+    const size_t s = size_t(t % 6);
+    // α = 1 is uncut: K = 1 there, not the dilute limit the last sample holds.
+    const double expected = s == 5 ? 1.0 : km[s];
+    EXPECT_NEAR(P[t] / W[t], expected, 1e-12) << "face " << t << " α " << alpha[t];
+    EXPECT_NEAR(K.membrane(alpha[t]), expected, 1e-15);
+  }
+  // Between samples K_m interpolates without overshoot.
+  for (double a : {0.35, 0.5, 0.7, 0.95}) {
+    EXPECT_LT(K.membrane(a), 3.1);
+    EXPECT_GT(K.membrane(a), 2.0);
+  }
+}
+
+// summarize_equilibrium reports W_peak_max over the material faces when the mechanics carries
+// concentration samples, and NaN (face −1, no field) when it does not.
+TEST(PeakEnergyDensity, EquilibriumSummaryCarriesWPeakMaxOnlyWithConcentrationSamples) {
+  test::CapFixture fx(55, BendingModel::ShapeOperator, FillStiffness::Homogenised);
+  const RowMatX3d x = fx.perturbed(56);
+  Eigen::VectorXd alpha = fx.alpha;
+  alpha.head(5).setConstant(1e-4);  // filler: not material
+  {
+    const EquilibriumSummary s = summarize_equilibrium(*fx.model, x, alpha);
+    EXPECT_TRUE(std::isnan(s.W_peak_max));
+    EXPECT_EQ(s.W_peak_max_face, -1);
+    EXPECT_EQ(s.peak_energy_density.size(), 0);
+  }
+  MechanicsSettings mech = fx.model->mechanics();
+  mech.stiffness_curve = with_concentration(mech.stiffness_curve, {3.0, 2.6, 2.3, 2.1, 2.0, 1.9},
+                                            {1.8, 1.7, 1.6, 1.5, 1.45, 1.4});
+  const ShellModel model(fx.mesh, test::pa12(), fx.lc, mech);
+  const EquilibriumSummary s = summarize_equilibrium(model, x, alpha);
+  const Eigen::VectorXd P = peak_energy_density(model, x, alpha, ConcentrationMap(mech.stiffness_curve));
+  ASSERT_EQ(s.peak_energy_density.size(), P.size());
+  EXPECT_EQ((s.peak_energy_density - P).norm(), 0.0);
+  double expected = 0;
+  int face = -1;
+  for (int t = 0; t < P.size(); ++t)
+    if (alpha[t] > kMaterialFillRatio && P[t] > expected) expected = P[t], face = t;
+  EXPECT_EQ(s.W_peak_max, expected);
+  EXPECT_EQ(s.W_peak_max_face, face);
+  EXPECT_GT(s.W_peak_max, s.W_max);  // every K exceeds 1
+}
+
+TEST(PeakEnergyDensity, RejectsMalformedConcentrationSamples) {
+  const FillStiffnessCurve base = test::test_stiffness_curve();
+  const std::vector<double> ok(base.alpha.size(), 1.5);
+  std::vector<double> low = ok;
+  low[2] = 0.9;
+  EXPECT_THROW(ConcentrationMap(with_concentration(base, low, ok)), InputError);
+  EXPECT_THROW(ConcentrationMap(with_concentration(base, ok, {1.5, 1.5})), InputError);
+  EXPECT_TRUE(ConcentrationMap(base).empty());
+  EXPECT_EQ(ConcentrationMap().membrane(0.4), 1.0);
+}
+
+}  // namespace
+}  // namespace cutwork::solvers

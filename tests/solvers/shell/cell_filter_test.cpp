@@ -1,0 +1,112 @@
+// The cell filter of fill ratios (solvers/shell/cell_filter.h): a convex combination per row
+// (B·1 = 1, entries ≥ 0), its pull-back is its transpose, the blend keeps resolved faces as they
+// are, the neighbourhood never jumps between sheets that are close in space but not connected,
+// and a perforation that alternates face by face is averaged to its mean.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "host/core/error.h"
+#include "solvers/shell/cell_filter.h"
+#include "tests/solvers/support/test_meshes.h"
+
+namespace cutwork::solvers {
+namespace {
+
+Eigen::VectorXd constant(const SurfaceMesh& m, double v) { return Eigen::VectorXd::Constant(m.num_faces(), v); }
+
+TEST(CellFilter, RowsAreConvexCombinationsAndThePullBackIsTheTranspose) {
+  const SurfaceMesh mesh = test::jittered(test::equilateral_rectangle(1.0, 0.5, 20), 0.2, 3);
+  // Spacing 3 edges, stencils 1.5 edges across: h/d ≈ 0.67, a partial blend.
+  const double h = 0.05;
+  const CellFilter filter(mesh, constant(mesh, 3 * h), constant(mesh, 1.5 * h));
+  ASSERT_FALSE(filter.identity());
+  const auto& B = filter.matrix();
+  for (int t = 0; t < B.rows(); ++t) {
+    double sum = 0;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, t); it; ++it) {
+      EXPECT_GE(it.value(), 0.0);
+      sum += it.value();
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-14) << "row " << t;
+  }
+  EXPECT_GT(filter.mean_row_size(), 6);
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> u(0.01, 1.0);
+  Eigen::VectorXd alpha(mesh.num_faces()), g(mesh.num_faces());
+  for (int t = 0; t < mesh.num_faces(); ++t) alpha[t] = u(gen), g[t] = u(gen) - 0.5;
+  const Eigen::VectorXd filtered = filter.apply(alpha);
+  EXPECT_GE(filtered.minCoeff(), alpha.minCoeff());
+  EXPECT_LE(filtered.maxCoeff(), alpha.maxCoeff());
+  EXPECT_NEAR(g.dot(filtered), filter.pull_back(g).dot(alpha), 1e-12 * g.cwiseAbs().sum());
+  EXPECT_TRUE(filter.apply(constant(mesh, 1.0)).isApprox(constant(mesh, 1.0), 1e-14));
+  EXPECT_THROW(filter.apply(Eigen::VectorXd::Ones(3)), InputError);
+  EXPECT_THROW(CellFilter(mesh, constant(mesh, -1.0), constant(mesh, h)), InputError);
+}
+
+TEST(CellFilter, BlendKeepsResolvedFacesAndAveragesLargeOnes) {
+  EXPECT_EQ(cell_filter_blend(0.1), 0.0);
+  EXPECT_EQ(cell_filter_blend(0.25), 0.0);
+  EXPECT_EQ(cell_filter_blend(1.0), 1.0);
+  EXPECT_EQ(cell_filter_blend(3.0), 1.0);
+  EXPECT_NEAR(cell_filter_blend(0.625), 0.5, 1e-15);
+  for (double x = 0.25; x < 1; x += 0.05) EXPECT_LT(cell_filter_blend(x), cell_filter_blend(x + 0.05));
+
+  const SurfaceMesh mesh = test::equilateral_rectangle(1.0, 0.5, 20);
+  // Stencils eight edges across: four triangles across a stencil and more, every face keeps its α.
+  const CellFilter resolved(mesh, constant(mesh, 0.6), constant(mesh, 0.4));
+  std::mt19937 gen(1);
+  std::uniform_real_distribution<double> u(0.01, 1.0);
+  Eigen::VectorXd alpha(mesh.num_faces());
+  for (int t = 0; t < mesh.num_faces(); ++t) alpha[t] = u(gen);
+  EXPECT_EQ((resolved.apply(alpha) - alpha).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(resolved.blend().maxCoeff(), 0.0);
+}
+
+TEST(CellFilter, AnAlternatingPerforationIsAveragedToItsMean) {
+  // Faces alternately nearly empty and full (what 1-stencil-per-face coverage looks like), on
+  // triangles as large as the stencils: away from the border the filtered field is the mean 0.55
+  // within a few percent; unfiltered it swings by ±0.45.
+  const SurfaceMesh mesh = test::equilateral_rectangle(1.0, 1.0, 20);
+  const double h = 0.05;
+  Eigen::VectorXd alpha(mesh.num_faces());
+  const RowMatX3d& V = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  for (int t = 0; t < mesh.num_faces(); ++t) {
+    // Up- and down-pointing triangles alternate along every row.
+    const double ymid = (V(F(t, 0), 1) + V(F(t, 1), 1) + V(F(t, 2), 1)) / 3;
+    int below = 0;
+    for (int k = 0; k < 3; ++k) below += V(F(t, k), 1) < ymid;
+    alpha[t] = below == 2 ? 0.1 : 1.0;
+  }
+  const CellFilter filter(mesh, constant(mesh, 2 * h), constant(mesh, h));
+  const Eigen::VectorXd filtered = filter.apply(alpha);
+  double worst = 0;
+  for (int t = 0; t < mesh.num_faces(); ++t) {
+    const Vec3 c = (V.row(F(t, 0)) + V.row(F(t, 1)) + V.row(F(t, 2))).transpose() / 3;
+    if (c.x() < 0.15 || c.x() > 0.85 || c.y() < 0.15 || c.y() > 0.85) continue;
+    worst = std::max(worst, std::abs(filtered[t] - 0.55));
+  }
+  EXPECT_LT(worst, 0.03);
+  EXPECT_GT((alpha.array() - 0.55).abs().minCoeff(), 0.4);
+}
+
+TEST(CellFilter, SheetsCloseInSpaceDoNotMix) {
+  // Two unit squares 1 mm apart (a folded sheet's two sides, a table top over its shelf): the
+  // filter's radius is far larger than the gap, yet no row reaches the other sheet.
+  const SurfaceMesh a = test::grid_rectangle(1.0, 1.0, 10, 10);
+  RowMatX3d V(2 * a.num_vertices(), 3);
+  RowMatX3i F(2 * a.num_faces(), 3);
+  V << a.vertices(), a.vertices().rowwise() + Eigen::RowVector3d(0, 0, 0.001);
+  F << a.faces(), a.faces().array() + a.num_vertices();
+  const SurfaceMesh two(V, F, "two sheets");
+  const CellFilter filter(two, constant(two, 0.3), constant(two, 0.1));
+  const int half = a.num_faces();
+  const auto& B = filter.matrix();
+  for (int t = 0; t < B.rows(); ++t)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, t); it; ++it)
+      EXPECT_EQ(t < half, it.col() < half) << "row " << t << " reaches " << it.col();
+}
+
+}  // namespace
+}  // namespace cutwork::solvers
