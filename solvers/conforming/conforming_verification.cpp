@@ -22,7 +22,7 @@ namespace {
 /// Solves `model` at `alpha` and fills the scalar quantities of `q`; W (#F) into `W`,
 /// displacements into `u` when non-null.
 void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const NewtonSettings& settings,
-               RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u) {
+               RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u, const Eigen::VectorXd* concentration_weight = nullptr) {
   Stopwatch sw;
   EquilibriumSolver solver(model, settings);
   const EquilibriumStats& stats = solver.solve(alpha);
@@ -30,7 +30,7 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
     throw SolveError(fmt::format("the {}-triangle shell's equilibrium is unstable (it buckles); the comparison "
                                  "needs a stable equilibrium",
                                  model.num_faces()));
-  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha);
+  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha, concentration_weight);
   static_cast<EquilibriumScalars&>(q) = s;
   q.vertices = model.num_vertices();
   q.faces = model.num_faces();
@@ -189,7 +189,9 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
   {
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
-    solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr);
+    // W_peak's factors blend as the cell filter does (peak_energy_density.h).
+    const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
+    solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr, filter.identity() ? nullptr : &filter.blend());
     v.coarse.edge_length = meshes.sim.mean_edge_length();
   }
 

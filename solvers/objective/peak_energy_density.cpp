@@ -1,5 +1,7 @@
 #include "solvers/objective/peak_energy_density.h"
 
+#include "host/core/internal_error.h"
+
 #include <fmt/format.h>
 
 #include "host/core/error.h"
@@ -35,7 +37,9 @@ double ConcentrationMap::apply(const MonotoneCurve& k, double alpha) {
 }
 
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                    const ConcentrationMap& K) {
+                                    const ConcentrationMap& K, const Eigen::VectorXd* weight) {
+  if (weight && weight->size() != model.num_faces())
+    throw InternalError("peak_energy_density: the weights do not match the faces");
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   ElementEnergies unit;
   shell_energy(model, x, alpha, &unit);
@@ -53,10 +57,12 @@ Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x,
       peak[t] = W[t];
       continue;
     }
+    const double w = weight ? (*weight)[t] : 1.0;
+    auto blend = [w](double k) { return 1 + w * (k - 1); };
     const double membrane_model = g.membrane_ratio(a) * U_membrane[t] / A[t];
     const double membrane = K.m_membrane_ratio(a) * U_membrane[t] / A[t];
     const double bending = K.m_bending_ratio(a) / g.bending_ratio(a) * (W[t] - membrane_model);
-    peak[t] = K.membrane(a) * membrane + K.bending(a) * bending;
+    peak[t] = blend(K.membrane(a)) * membrane + blend(K.bending(a)) * bending;
   }
   return peak;
 }

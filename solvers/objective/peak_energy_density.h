@@ -39,8 +39,8 @@ namespace cutwork::solvers {
 /// The rule above in a line, for reports.
 inline constexpr const char* kPeakEnergyDensityRule =
     "W_peak = K_m(alpha) W_membrane + K_b(alpha) W_bending per face, K = peak/mean energy density over a periodic "
-    "cell's material from the cell problems (worst over shapes and stress states; K = 1 at alpha = 1); max over "
-    "material faces";
+    "cell's material from the cell problems (worst over shapes and stress states; K = 1 at alpha = 1; blended towards "
+    "1 where the cell filter says a face resolves its stencils); max over material faces";
 /// What reports say instead when the mechanics carries no concentration samples (W_peak null).
 inline constexpr const char* kPeakEnergyDensityAbsent =
     "not computed: no concentration factors (mechanics.stiffness is not homogenised)";
@@ -63,12 +63,17 @@ class ConcentrationMap {
   static double apply(const MonotoneCurve& k, double alpha);
   MonotoneCurve m_membrane, m_bending, m_membrane_ratio, m_bending_ratio;
   friend Eigen::VectorXd peak_energy_density(const ShellModel&, const RowMatX3d&, const Eigen::VectorXd&,
-                                             const ConcentrationMap&);
+                                             const ConcentrationMap&, const Eigen::VectorXd*);
 };
 
 /// W_peak (#F, J/m²) of the rule above at positions x (#V×3) and fill ratios alpha (#F).
+/// `weight` (#F in [0, 1], optional; null: all ones): how far each face is from resolving its
+/// stencils. The factors are blended, K ← 1 + w_t (K − 1), so that a face that resolves the rim
+/// of a hole itself (w = 0: the cell filter's blend b of solvers/shell/cell_filter.h, 0 where four
+/// or more triangles span a stencil) is not concentrated a second time. Only K is blended: the
+/// ratios r convert the model's W into perforated material's mean W and stay as they are.
 /// Precondition: !K.empty().
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                    const ConcentrationMap& K);
+                                    const ConcentrationMap& K, const Eigen::VectorXd* weight = nullptr);
 
 }  // namespace cutwork::solvers

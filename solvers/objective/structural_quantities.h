@@ -51,7 +51,10 @@ struct EquilibriumSummary : EquilibriumScalars {
   Eigen::VectorXd peak_energy_density;  ///< #F, J/m²; empty without concentration samples
 };
 
-EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha);
+/// `concentration_weight` (#F, optional): peak_energy_density's weight for W_peak (the cell
+/// filter's blend where there is one).
+EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                                         const Eigen::VectorXd* concentration_weight = nullptr);
 
 /// S = Ŵ(x, α): ∂S/∂x = ∂Ŵ/∂x (fixed rows zero), ∂S/∂α = ∂Ŵ/∂α.
 ObjectiveTerms strain_energy_terms(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha);

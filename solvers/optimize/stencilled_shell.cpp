@@ -70,7 +70,8 @@ void StencilledShell::restore_equilibrium(std::span<const StencilParams> stencil
 
 EquilibriumSummary StencilledShell::summary() const {
   if (!m_solver->has_solution()) throw InternalError("no equilibrium has been solved for yet");
-  return summarize_equilibrium(*m_model, m_solver->positions(), m_solver->alpha());
+  return summarize_equilibrium(*m_model, m_solver->positions(), m_solver->alpha(),
+                               m_filter.identity() ? nullptr : &m_filter.blend());
 }
 
 void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,

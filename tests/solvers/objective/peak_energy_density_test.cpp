@@ -89,6 +89,16 @@ TEST(PeakEnergyDensity, UniformMembraneStateScalesByTheMembraneConcentration) {
     EXPECT_NEAR(P[t] / W[t], expected, 1e-12) << "face " << t << " α " << alpha[t];
     EXPECT_NEAR(K.membrane(alpha[t]), expected, 1e-15);
   }
+  // Weighted (the cell filter's blend): w = 0 where a face resolves its stencils gives W itself,
+  // w = ½ the factor halfway to 1, w = 1 the unweighted value.
+  Eigen::VectorXd w(alpha.size());
+  for (int t = 0; t < w.size(); ++t) w[t] = (t / 6) % 3 * 0.5;
+  const Eigen::VectorXd Pw = peak_energy_density(model, x, alpha, K, &w);
+  for (int t = 0; t < W.size(); ++t) {
+    const size_t s = size_t(t % 6);
+    const double k = s == 5 ? 1.0 : km[s];
+    EXPECT_NEAR(Pw[t] / W[t], 1 + w[t] * (k - 1), 1e-12) << "face " << t << " weight " << w[t];
+  }
   // Between samples K_m interpolates without overshoot.
   for (double a : {0.35, 0.5, 0.7, 0.95}) {
     EXPECT_LT(K.membrane(a), 3.1);
