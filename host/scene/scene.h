@@ -110,7 +110,7 @@ enum class StructuralObjective { None, EnergyDensity, Adaptive, Compliance };
 struct StructureSettings {
   StructuralObjective objective = StructuralObjective::EnergyDensity;
   double w_S = 500.0;                   ///< structural weight
-  double beta = 0.2;                    ///< threshold as a fraction of W_max of the uncut shell
+  double beta = 0.2;                    ///< threshold as a fraction of the uncut shell's W_q (2% area quantile of W)
   std::string adaptive_mode = "top_percent";  ///< "top_percent" or "median"
   double adaptive_y = 5.0;              ///< y (%) for top_percent
   int max_iterations = 200;

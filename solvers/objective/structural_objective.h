@@ -5,7 +5,7 @@
 /// Energy density (17):
 ///     S_stab = (1/m) Σ_i ½ ((W_i − β)₊ / W_ref)²,
 /// W_i the per-triangle energy density (16), m the number of triangles, β the threshold and
-/// W_ref a reference density — W_max of the uncut shell, the quantity β is a fraction of
+/// W_ref a reference density — the uncut shell's W_q (energy_density_reference.h), the quantity β is a fraction of
 /// (Table 2). Dividing by W_ref² is the only change to (17): it makes S independent of the
 /// material's and the load's magnitudes, so that one w_S means the same on a plate loaded with
 /// 1 N and a pavilion under its own weight (the paper's w_S are tied to its unstated units).

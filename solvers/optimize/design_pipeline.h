@@ -1,7 +1,7 @@
 #pragma once
 /// The whole design of DESIGN.md's data flow as one library call, for `cutwork design`, the
 /// end-to-end benchmarks and the tests:
-///   uncut shell ─► equilibrium (W_ref = W_max of the uncut shell, the reference of β)
+///   uncut shell ─► equilibrium (W_ref = beta_reference: the uncut W_q area quantile, the reference of β)
 ///   pattern phase (initialisation, pattern-only L-BFGS-B)     ─► the pattern design
 ///   structural phase (joint L-BFGS-B, the scene's objective)   ─► the final design
 /// with the equilibrium of each design (fill ratios on the simulation mesh, W, compliance,

@@ -11,7 +11,7 @@
 /// L-BFGS-B runs (solvers/optimize/joint_optimizer.h, optimize_pattern with a JointTerm).
 ///
 /// Objectives (scene `structure.objective`, solvers/objective/structural_objective.h):
-///  - energy_density (17): β = structure.beta × W_ref, W_ref = W_max of the uncut shell;
+///  - energy_density (17): β = structure.beta × W_ref, W_ref = the uncut W_q (design_pipeline.h beta_reference);
 ///  - adaptive: β starts at, and after every converged optimisation moves to, the median of W or
 ///    the mean of its top y% (structure.adaptive_mode, adaptive_y); the optimisation continues
 ///    until β changes by less than 1e-3 W_ref, at most structure.max_rounds times;
