@@ -195,6 +195,7 @@ json structure_json(const StructurePhaseResult& r) {
           {"c_ref", number(r.c_ref)}, {"J", {number(r.J_start), number(r.J_end)}},
           {"S", {number(r.S_start), number(r.S_end)}}, {"P", {number(r.P_start), number(r.P_end)}},
           {"optimisations", r.optimisations}, {"inserted_by_hole_filling", r.inserted_by_hole_filling},
+          {"removed_for_min_feature", r.removed_for_min_feature},
           {"covered_area", {number(r.covered_area_target), number(r.covered_area_final)}},
           {"restorations", r.restorations}, {"max_restoring_change", number(r.max_restoring_change)},
           {"seconds", number(r.seconds)}, {"notes", r.notes}};
@@ -216,6 +217,7 @@ StructurePhaseResult structure_from(const json& j) {
   r.P_end = number(j.at("P").at(1));
   r.optimisations = j.at("optimisations").get<int>();
   r.inserted_by_hole_filling = j.at("inserted_by_hole_filling").get<int>();
+  r.removed_for_min_feature = j.value("removed_for_min_feature", 0);  // (absent before the minimum feature)
   r.covered_area_target = number(j.at("covered_area").at(0));
   r.covered_area_final = number(j.at("covered_area").at(1));
   r.restorations = j.at("restorations").get<int>();

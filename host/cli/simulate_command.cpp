@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -198,8 +199,9 @@ void run_simulate(const SimulateOptions& opts) {
 
   // Staged, then published as one set (report.json last): a failed run leaves the folder as it was.
   const std::filesystem::path out(opts.run.out);
-  write_ply_with_face_fields(outputs->stage("fields.ply"), meshes.sim,
-                             {{"alpha", alpha}, {"W", summary.energy_density}, {"displacement", face_u}});
+  std::map<std::string, Eigen::VectorXd> face_fields = {{"alpha", alpha}, {"W", summary.energy_density}, {"displacement", face_u}};
+  if (summary.peak_energy_density.size() > 0) face_fields["W_peak"] = summary.peak_energy_density;
+  write_ply_with_face_fields(outputs->stage("fields.ply"), meshes.sim, face_fields);
   files.write(placer(*outputs));
   write_json_atomic(outputs->stage("report.json"), report);
   outputs->publish();

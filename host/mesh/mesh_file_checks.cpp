@@ -193,6 +193,16 @@ void check_ply_structure(std::string_view content, const std::string& what) {
     pos = std::min(eol + 1, content.size());
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    // A header is text: a control byte (a NUL inside a property name crashed assimp's PLY reader,
+    // fuzz-regressions/mesh_ply/segv-nul-in-property-name.ply) is refused, and named by its
+    // position, not echoed.
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      const auto c = static_cast<unsigned char>(line[k]);
+      if ((c < 0x20 && c != '\t') || c == 0x7f)
+        fail(fmt::format("PLY header line {} has a control byte 0x{:02x} at column {} (binary data in the "
+                         "header, or not a PLY file)",
+                         line_number, c, k + 1));
+    }
     const std::vector<std::string> t = tokens_of(line);
     auto bad_line = [&](const std::string& why) {
       fail(fmt::format("PLY header line {} '{}': {}", line_number, line, why));
@@ -243,8 +253,17 @@ void check_ply_structure(std::string_view content, const std::string& what) {
   if (!format) fail("PLY header has no format line");
 
   long long num_vertices = -1;
-  for (const PlyElement& e : elements)
-    if (e.name == "vertex") num_vertices = e.count;
+  for (const PlyElement& e : elements) {
+    if (e.name != "vertex") continue;
+    num_vertices = e.count;
+    // Positions are properties x, y and z of the vertex element; assimp reads a missing one as 0
+    // and the mesh then fails later for a reason that does not name the cause.
+    for (const char* axis : {"x", "y", "z"}) {
+      const bool present = std::any_of(e.properties.begin(), e.properties.end(),
+                                       [&](const PlyProperty& p) { return !p.is_list && p.name == axis; });
+      if (!present) fail(fmt::format("the PLY vertex element has no '{}' property (positions are x, y and z)", axis));
+    }
+  }
 
   // The declared counts against the size of the data, before anything is read: an item of an
   // element takes at least its fixed-size properties' bytes and its lists' length fields

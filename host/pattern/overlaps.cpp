@@ -10,11 +10,11 @@ namespace cutwork {
 
 namespace {
 
-OverlapReport check(const PatternSurface& surface, const StencilLayout& layout, double safety,
+OverlapReport check(const PatternSurface& surface, const StencilLayout& layout, double safety, double gap,
                     const std::vector<PointPair>& candidates, bool brute) {
   OverlapReport rep;
   for (const PointPair& p : candidates) {
-    const double need = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale);
+    const double need = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale) + gap;
     const double d = (layout[size_t(p.i)].position - layout[size_t(p.j)].position).norm();
     if (need > d) {
       ++rep.pairs;
@@ -22,7 +22,7 @@ OverlapReport check(const PatternSurface& surface, const StencilLayout& layout, 
     }
   }
   for (const PlacedStencil& s : layout) {
-    const double need = (1 + safety) * s.scale;
+    const double need = (1 + safety) * s.scale + gap;
     const auto bp = brute ? surface.boundary().nearest_brute_force(s.position, need)
                           : surface.boundary().nearest(s.position, need);
     if (bp && need > bp->signed_distance) {
@@ -33,46 +33,46 @@ OverlapReport check(const PatternSurface& surface, const StencilLayout& layout, 
   return rep;
 }
 
-double max_reach(const StencilLayout& layout, double safety) {
+double max_reach(const StencilLayout& layout, double safety, double gap) {
   double r = 0;
   for (const auto& s : layout) r = std::max(r, s.scale);
-  return 2 * (1 + safety) * r;
+  return 2 * (1 + safety) * r + gap;
 }
 
 }  // namespace
 
 OverlapReport find_overlaps(const PatternSurface& surface, const StencilLayout& layout,
-                            double safety) {
-  const double reach = max_reach(layout, safety);
+                            double safety, double gap) {
+  const double reach = max_reach(layout, safety, gap);
   const RowMatX3d pos = layout_positions(layout);
-  return check(surface, layout, safety, PointGrid(pos, reach).pairs_within(reach), false);
+  return check(surface, layout, safety, gap, PointGrid(pos, reach).pairs_within(reach), false);
 }
 
 OverlapReport find_overlaps_brute_force(const PatternSurface& surface, const StencilLayout& layout,
-                                        double safety) {
+                                        double safety, double gap) {
   const RowMatX3d pos = layout_positions(layout);
-  return check(surface, layout, safety, pairs_within_brute_force(pos, max_reach(layout, safety)), true);
+  return check(surface, layout, safety, gap, pairs_within_brute_force(pos, max_reach(layout, safety, gap)), true);
 }
 
 int resolve_overlaps(const PatternSurface& surface, StencilLayout& layout, double safety,
-                     const Eigen::VectorXd& min_scales) {
+                     const Eigen::VectorXd& min_scales, double gap) {
   const int S = int(layout.size());
-  const double reach = max_reach(layout, safety);
+  const double reach = max_reach(layout, safety, gap);
   const RowMatX3d pos = layout_positions(layout);
   std::vector<double> factor(size_t(S), 1.0);
   for (const PointPair& p : PointGrid(pos, reach).pairs_within(reach)) {
-    const double need = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale);
-    if (need > p.distance) {
-      const double f = p.distance / need;
+    const double circles = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale);
+    if (circles + gap > p.distance) {
+      const double f = std::max(0.0, p.distance - gap) / circles;
       factor[size_t(p.i)] = std::min(factor[size_t(p.i)], f);
       factor[size_t(p.j)] = std::min(factor[size_t(p.j)], f);
     }
   }
   for (int i = 0; i < S; ++i) {
-    const double need = (1 + safety) * layout[size_t(i)].scale;
-    const auto bp = surface.boundary().nearest(layout[size_t(i)].position, need);
-    if (bp && need > bp->signed_distance)
-      factor[size_t(i)] = std::min(factor[size_t(i)], std::max(0.0, bp->signed_distance) / need);
+    const double circle = (1 + safety) * layout[size_t(i)].scale;
+    const auto bp = surface.boundary().nearest(layout[size_t(i)].position, circle + gap);
+    if (bp && circle + gap > bp->signed_distance)
+      factor[size_t(i)] = std::min(factor[size_t(i)], std::max(0.0, bp->signed_distance - gap) / circle);
   }
   StencilLayout kept;
   kept.reserve(layout.size());

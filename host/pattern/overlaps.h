@@ -1,8 +1,12 @@
 #pragma once
 /// Admissibility of a layout (§4.2: "no pair of stencils may overlap"): bounding circles
-/// enlarged by the safety factor must keep apart, (1+s)(r_i + r_j) ≤ |c_i − c_j|, and off the
-/// open boundary, (1+s) r_i ≤ distance(c_i, boundary). The penalties of the objectives leave
-/// a residue of order 1/w_collision; resolve_overlaps removes it exactly.
+/// enlarged by the safety factor must keep apart, (1+s)(r_i + r_j) + g ≤ |c_i − c_j|, and off the
+/// open boundary, (1+s) r_i + g ≤ distance(c_i, boundary). The gap g (m, default 0) is an absolute
+/// width of material the structural phase keeps between any two bounding circles and between one
+/// and the border: the fabrication minimum feature as a hard constraint (outlines lie inside their
+/// bounding circles, so the ligament between two holes is at least g wherever the chord between
+/// the centres measures the distance). The penalties of the objectives leave a residue of order
+/// 1/w_collision; resolve_overlaps removes it exactly.
 #include "host/pattern/pattern_surface.h"
 
 namespace cutwork {
@@ -16,17 +20,17 @@ struct OverlapReport {
 
 /// Checks a layout (uniform grid for the pairs).
 OverlapReport find_overlaps(const PatternSurface& surface, const StencilLayout& layout,
-                            double safety);
+                            double safety, double gap = 0);
 /// Brute-force twin (all pairs, all boundary segments).
 OverlapReport find_overlaps_brute_force(const PatternSurface& surface, const StencilLayout& layout,
-                                        double safety);
+                                        double safety, double gap = 0);
 
 /// Makes the layout admissible by shrinking scales: each stencil takes the smallest factor
-/// f_ij = d_ij / ((1+s)(r_i + r_j)) over its violating pairs and d_i / ((1+s) r_i) for the
-/// boundary (both ends of a pair shrink by at most its factor, so every pair is admissible
+/// f_ij = (d_ij − g) / ((1+s)(r_i + r_j)) over its violating pairs and (d_i − g) / ((1+s) r_i) for
+/// the boundary (both ends of a pair shrink by at most its factor, so every pair is admissible
 /// after one pass), times (1 − 1e-9) against round-off. A stencil that would shrink below
 /// min_scales[i] (#S) is removed instead. Returns the number of stencils removed.
 int resolve_overlaps(const PatternSurface& surface, StencilLayout& layout, double safety,
-                     const Eigen::VectorXd& min_scales);
+                     const Eigen::VectorXd& min_scales, double gap = 0);
 
 }  // namespace cutwork

@@ -44,6 +44,8 @@ constexpr NamedValue<StructuralObjective> kStructuralObjectives[] = {
     {"energy_density", StructuralObjective::EnergyDensity},
     {"adaptive", StructuralObjective::Adaptive},
     {"compliance", StructuralObjective::Compliance}};
+constexpr NamedValue<DensityMeasure> kDensityMeasures[] = {{"mean", DensityMeasure::Mean},
+                                                           {"peak", DensityMeasure::Peak}};
 const std::vector<std::string> kSupportTypes{"pinned", "clamped"};
 
 /// The names of a table, in its order (what a reader accepts).
@@ -381,6 +383,7 @@ StructureSettings parse_structure_section(JsonObjectReader& root) {
   o.objective = read_named(s, "objective", d.objective, kStructuralObjectives);
   o.w_S = s.number("w_S", d.w_S, 0, kInf);
   o.beta = s.number("beta", d.beta, 0, 1, true, false);
+  o.measure = read_named(s, "measure", d.measure, kDensityMeasures);
   o.adaptive_mode = s.string("adaptive_mode", d.adaptive_mode, {"top_percent", "median"});
   o.adaptive_y = s.number("adaptive_y", d.adaptive_y, 0, 100, true);
   o.max_iterations = s.integer("max_iterations", d.max_iterations, 0, 1'000'000);
@@ -415,6 +418,10 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
   scene.shapes = parse_stencils_section(root, origin);
   scene.pattern = parse_pattern_section(root, origin, base_dir);
   scene.structure = parse_structure_section(root);
+  if (scene.structure.measure == DensityMeasure::Peak && scene.mechanics.stiffness != FillStiffness::Homogenised)
+    throw InputError(origin +
+                     ": /structure/measure: 'peak' needs mechanics.stiffness 'homogenised' (the concentration factors "
+                     "come from its cell problems)");
   scene.fabrication = parse_fabrication_section(root);
   root.finish();
   return scene;
@@ -493,6 +500,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
   j["structure"] = {{"objective", name_of(kStructuralObjectives, st.objective)},
                     {"w_S", st.w_S},
                     {"beta", st.beta},
+                    {"measure", name_of(kDensityMeasures, st.measure)},
                     {"adaptive_mode", st.adaptive_mode},
                     {"adaptive_y", st.adaptive_y},
                     {"max_iterations", st.max_iterations},

@@ -106,11 +106,16 @@ struct PatternSettings {
 };
 
 enum class StructuralObjective { None, EnergyDensity, Adaptive, Compliance };
+/// What the energy-density objectives threshold: the face's mean energy density W (16), or the
+/// ligament peak W_peak = K_m W^memb + K_b W^bend (solvers/objective/peak_energy_density.h; needs
+/// mechanics.stiffness "homogenised", whose cell problems give K).
+enum class DensityMeasure { Mean, Peak };
 
 struct StructureSettings {
   StructuralObjective objective = StructuralObjective::EnergyDensity;
   double w_S = 500.0;                   ///< structural weight
   double beta = 0.2;                    ///< threshold as a fraction of the uncut shell's W_q (2% area quantile of W)
+  DensityMeasure measure = DensityMeasure::Mean;  ///< W or W_peak against β (energy_density, adaptive)
   std::string adaptive_mode = "top_percent";  ///< "top_percent" or "median"
   double adaptive_y = 5.0;              ///< y (%) for top_percent
   int max_iterations = 200;

@@ -27,7 +27,19 @@
 /// K(α) between samples: the shape-preserving cubic of fill_stiffness_map.h (PCHIP; K need not be
 /// monotone, PCHIP does not overshoot the samples and is C¹), held constant outside the samples.
 /// The last sample (α = 1) holds the dilute limit (a vanishing hole still concentrates stress, as
-/// Kirsch's hole does), not the uncut value 1. Units: W in J/m².
+/// Kirsch's hole does), not the uncut value 1. Between 1 − δ and 1 (δ = kConcentrationRamp) the
+/// factor ramps to 1, K ← 1 + (K − 1) s((1 − α)/δ) with the C¹ smoothstep s(t) = 3t² − 2t³: a face
+/// that a stencil barely touches (or, under the cell filter, whose cone barely reaches a hole) holds
+/// no rim of its own — the faces that hold the hole report its peak — and the objective built on
+/// W_peak stays C¹ where a stencil first enters a face (a jump from 1 to the dilute K there would
+/// stall the line search). Units: W in J/m².
+///
+/// As an objective (structure.measure "peak", structural_objective.h): per face,
+///     W_peak_t = a(α_t) W_t + b(α_t) U_t^memb / A_t,
+///     a = k_b ρ_b / r_b^model,   b = k_m ρ_m − a r_m^model,
+/// with k the blended factors and ρ the calibrated ratios; a = 1, b = 0 at α = 1. The weights w
+/// (the cell filter's blend) do not depend on the stencils, so ∂W_peak/∂α is the α-derivative of
+/// a and b plus a times ∂W/∂α (peak_energy_density_vjp).
 #include <Eigen/Core>
 
 #include "host/scene/load_case.h"
@@ -39,11 +51,15 @@ namespace cutwork::solvers {
 /// The rule above in a line, for reports.
 inline constexpr const char* kPeakEnergyDensityRule =
     "W_peak = K_m(alpha) W_membrane + K_b(alpha) W_bending per face, K = peak/mean energy density over a periodic "
-    "cell's material from the cell problems (worst over shapes and stress states; K = 1 at alpha = 1; blended towards "
-    "1 where the cell filter says a face resolves its stencils); max over material faces";
+    "cell's material from the cell problems (worst over shapes and stress states; K ramps to 1 over alpha in [0.95, 1] "
+    "and is 1 at alpha = 1; blended towards 1 where the cell filter says a face resolves its stencils); max over "
+    "material faces";
 /// What reports say instead when the mechanics carries no concentration samples (W_peak null).
 inline constexpr const char* kPeakEnergyDensityAbsent =
     "not computed: no concentration factors (mechanics.stiffness is not homogenised)";
+
+/// δ of the ramp of K to 1 near α = 1 (above).
+inline constexpr double kConcentrationRamp = 0.05;
 
 /// K_m(α), K_b(α) of a calibrated curve.
 class ConcentrationMap {
@@ -55,15 +71,17 @@ class ConcentrationMap {
   explicit ConcentrationMap(const FillStiffnessCurve& curve);
 
   bool empty() const { return m_membrane.empty(); }
-  /// K_m(α) (1 at α = 1 exactly, and when empty()).
-  double membrane(double alpha) const { return apply(m_membrane, alpha); }
-  double bending(double alpha) const { return apply(m_bending, alpha); }
+  /// K_m(α) with the ramp to 1 above (1 for α ≥ 1, and when empty()); dK_m/dα into `slope`.
+  double membrane(double alpha, double* slope = nullptr) const { return apply(m_membrane, alpha, slope); }
+  double bending(double alpha, double* slope = nullptr) const { return apply(m_bending, alpha, slope); }
+  /// The calibrated ratios ρ = g/α of the curve the factors came with (1 for α ≥ 1).
+  double membrane_ratio(double alpha, double* slope = nullptr) const { return ratio(m_membrane_ratio, alpha, slope); }
+  double bending_ratio(double alpha, double* slope = nullptr) const { return ratio(m_bending_ratio, alpha, slope); }
 
  private:
-  static double apply(const MonotoneCurve& k, double alpha);
+  static double apply(const MonotoneCurve& k, double alpha, double* slope);
+  static double ratio(const MonotoneCurve& r, double alpha, double* slope);
   MonotoneCurve m_membrane, m_bending, m_membrane_ratio, m_bending_ratio;
-  friend Eigen::VectorXd peak_energy_density(const ShellModel&, const RowMatX3d&, const Eigen::VectorXd&,
-                                             const ConcentrationMap&, const Eigen::VectorXd*);
 };
 
 /// W_peak (#F, J/m²) of the rule above at positions x (#V×3) and fill ratios alpha (#F).
@@ -75,5 +93,12 @@ class ConcentrationMap {
 /// Precondition: !K.empty().
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const ConcentrationMap& K, const Eigen::VectorXd* weight = nullptr);
+
+/// For weights c (#F): Σ_t c_t ∂W_peak_t/∂x into d_positions (#V×3; rows of fixed vertices zero)
+/// and Σ_t c_t ∂W_peak_t/∂α into d_alpha (#F), at fixed `weight`. Either output may be null. The
+/// twin of energy_density_vjp for an objective built on W_peak.
+void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                             const ConcentrationMap& K, const Eigen::VectorXd* weight, const Eigen::VectorXd& c,
+                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha);
 
 }  // namespace cutwork::solvers

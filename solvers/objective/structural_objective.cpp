@@ -11,10 +11,14 @@
 namespace cutwork::solvers {
 
 ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                        double beta, double w_ref, Eigen::VectorXd* energy_density_out) {
+                                        double beta, double w_ref, Eigen::VectorXd* energy_density_out,
+                                        const PeakMeasure* peak) {
   if (!(w_ref > 0) || !std::isfinite(w_ref) || !std::isfinite(beta))
     throw InternalError("energy_density_objective: W_ref must be finite and > 0 and beta finite");
-  const Eigen::VectorXd W = energy_density(model, x, alpha);
+  if (peak && (!peak->K || peak->K->empty()))
+    throw InternalError("energy_density_objective: the peak measure needs concentration factors");
+  const Eigen::VectorXd W =
+      peak ? peak_energy_density(model, x, alpha, *peak->K, peak->weight) : energy_density(model, x, alpha);
   const int m = model.num_faces();
   // ∂S/∂W_i = (W_i − β)₊ / (m W_ref²): the weights of the vector–Jacobian products of W.
   Eigen::VectorXd weights = Eigen::VectorXd::Zero(m);
@@ -28,7 +32,12 @@ ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d
   t.value /= m;
   t.d_positions = RowMatX3d::Zero(model.num_vertices(), 3);
   t.d_alpha = Eigen::VectorXd::Zero(m);
-  if (weights.any()) energy_density_vjp(model, x, alpha, weights, &t.d_positions, &t.d_alpha);
+  if (weights.any()) {
+    if (peak)
+      peak_energy_density_vjp(model, x, alpha, *peak->K, peak->weight, weights, &t.d_positions, &t.d_alpha);
+    else
+      energy_density_vjp(model, x, alpha, weights, &t.d_positions, &t.d_alpha);
+  }
   if (energy_density_out) *energy_density_out = W;
   return t;
 }

@@ -17,18 +17,31 @@
 /// membrane of a cut triangle by its uncut area, so cutwork minimises the conventional
 /// quantity it stands for. (Self-weight makes the load depend on α; C includes that.)
 ///
+/// Peak measure (structure.measure "peak", beyond the paper): W_i is replaced by the ligament peak
+/// W_peak_i of peak_energy_density.h, K_m(α) W^memb + K_b(α) W^bend, everywhere above (the
+/// threshold, the adaptive statistic); W_ref stays the uncut W_q, where W_peak = W.
+///
 /// The adaptive threshold (§5.3, §6.2): β_new = the median of W, or the mean of the top y% of W.
 #include <Eigen/Core>
 
 #include "solvers/objective/objective_terms.h"
+#include "solvers/objective/peak_energy_density.h"
 #include "solvers/shell/shell_model.h"
 
 namespace cutwork::solvers {
 
+/// The peak measure's data: the concentration factors and the blend weights (#F; null: all ones).
+struct PeakMeasure {
+  const ConcentrationMap* K = nullptr;
+  const Eigen::VectorXd* weight = nullptr;
+};
+
 /// S_stab and its partials at positions x (#V×3, m) and fill ratios alpha (#F).
-/// beta and w_ref in J/m²; w_ref > 0. Also returns W (#F) in `energy_density` when not null.
+/// beta and w_ref in J/m²; w_ref > 0. Also returns the measure (#F: W, or W_peak when `peak` is
+/// given) in `energy_density` when not null.
 ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                        double beta, double w_ref, Eigen::VectorXd* energy_density = nullptr);
+                                        double beta, double w_ref, Eigen::VectorXd* energy_density = nullptr,
+                                        const PeakMeasure* peak = nullptr);
 
 /// S_comp = C / c_ref and its partials; c_ref > 0 (J).
 ObjectiveTerms compliance_objective(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,

@@ -62,6 +62,7 @@ StructurePhaseResult structure_phase(const Scene& scene, PatternContext& ctx, St
   StructurePhaseOptions so;
   so.max_iterations = options.structure_iterations;
   so.seed = scene.pattern.seed;
+  so.min_feature = scene.fabrication.min_feature;
   if (options.progress) so.progress = [&](const PatternProgress& p) { return options.progress("structure", p); };
   if (options.checkpoint)
     so.checkpoints.save = [&](const StructurePhaseResult& partial, const PhaseSnapshot& phase) {

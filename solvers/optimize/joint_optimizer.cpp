@@ -275,8 +275,8 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const JointOpt
   if (joint)
     for (size_t i = 0; i < layout.size(); ++i)
       floor[Eigen::Index(i)] = 0.75 * std::min(st.lower[Eigen::Index(i)], layout[i].scale);
-  stats.removed += resolve_overlaps(ctx.surface(), layout, ctx.settings().s, floor);
-  if (joint) joint->finalize(ctx.surface(), ctx.settings().s, layout);
+  stats.removed += resolve_overlaps(ctx.surface(), layout, ctx.settings().s, floor, options.min_gap);
+  if (joint) joint->finalize(ctx.surface(), ctx.settings().s, options.min_gap, layout);
   stats.seconds_optimize += clock.seconds();
 }
 

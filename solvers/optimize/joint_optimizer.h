@@ -47,8 +47,9 @@ class JointTerm {
   virtual double evaluate(std::span<const StencilParams> params, Eigen::VectorXd* gradient) = 0;
   /// After the optimisation and the overlap resolution (which shrinks stencils and may break the
   /// constraint): make `layout` admissible and restored at once (default: nothing to do).
-  virtual void finalize(const PatternSurface& surface, double safety, StencilLayout& layout) {
-    (void)surface, (void)safety, (void)layout;
+  /// `gap` (m): the overlap resolution's absolute gap (overlaps.h).
+  virtual void finalize(const PatternSurface& surface, double safety, double gap, StencilLayout& layout) {
+    (void)surface, (void)safety, (void)gap, (void)layout;
   }
   /// S (unweighted) and W_max (J/m²) of the last successful evaluation, for progress displays.
   virtual double last_structure() const = 0;
@@ -98,6 +99,10 @@ struct JointOptimizerOptions {
   JointTerm* joint = nullptr;
   double w_P = 1.0;
   double max_rotation = 0.0;
+  /// The final overlap resolution keeps this much material (m) between the stencils' bounding
+  /// circles and between one and the border (overlaps.h's gap): the structural phase passes
+  /// fabrication.min_feature, a hard constraint met by shrinking, as the overlaps are.
+  double min_gap = 0.0;
   JointCheckpoint checkpoint;     ///< may be empty
 };
 

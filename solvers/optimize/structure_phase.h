@@ -12,6 +12,8 @@
 ///
 /// Objectives (scene `structure.objective`, solvers/objective/structural_objective.h):
 ///  - energy_density (17): β = structure.beta × W_ref, W_ref = the uncut W_q (design_pipeline.h beta_reference);
+///    with structure.measure "peak" the per-face W is the ligament peak W_peak (peak_energy_density.h)
+///    — for adaptive too, whose statistic is then taken of W_peak;
 ///  - adaptive: β starts at, and after every converged optimisation moves to, the median of W or
 ///    the mean of its top y% (structure.adaptive_mode, adaptive_y); the optimisation continues
 ///    until β changes by less than 1e-3 W_ref, at most structure.max_rounds times;
@@ -51,7 +53,7 @@ class StructuralTerm final : public JointTerm {
   double evaluate(std::span<const StencilParams> params, Eigen::VectorXd* gradient) override;
   /// Compliance: alternates restoring the area and shrinking overlapping stencils, freezing
   /// every stencil that had to shrink, so that the design ends both admissible and restored.
-  void finalize(const PatternSurface& surface, double safety, StencilLayout& layout) override;
+  void finalize(const PatternSurface& surface, double safety, double gap, StencilLayout& layout) override;
   double last_structure() const override { return m_last_S; }
   double last_W_max() const override { return m_last_W_max; }
 
@@ -59,6 +61,11 @@ class StructuralTerm final : public JointTerm {
   double structure(std::span<const StencilParams> params);
   double beta() const { return m_beta; }
   void set_beta(double beta) { m_beta = beta; }
+  /// What S thresholds (energy_density, adaptive): W (default) or W_peak, whose concentration
+  /// factors come from the shell's mechanics. Throws InputError for Peak when it has none.
+  void set_measure(DensityMeasure measure);
+  DensityMeasure measure() const { return m_measure; }
+
   /// Restorations so far and the largest |k − 1| among them.
   int restorations() const { return m_restorations; }
   double max_restoring_change() const { return m_max_k_change; }
@@ -78,6 +85,8 @@ class StructuralTerm final : public JointTerm {
   StencilledShell& m_shell;
   StructuralObjective m_objective;
   double m_w_S, m_beta, m_w_ref, m_c_ref, m_target;
+  DensityMeasure m_measure = DensityMeasure::Mean;
+  ConcentrationMap m_K;  ///< the shell's concentration factors (Peak)
   double m_last_S = std::nan(""), m_last_W_max = std::nan("");
   // The last restoration: k, the original scales, ∂C/∂p at the restored parameters (#S×5).
   double m_k = 1;
@@ -102,6 +111,7 @@ struct StructurePhaseResult : JointOptimizerStats {
   double J_start = 0, J_end = 0, S_start = 0, S_end = 0, P_start = 0, P_end = 0;
   int optimisations = 0;           ///< L-BFGS-B sequences (adaptive β updates, hole filling)
   int inserted_by_hole_filling = 0;
+  int removed_for_min_feature = 0;  ///< pattern stencils removed to keep the minimum feature at the start
   double covered_area_target = 0, covered_area_final = 0;  ///< m² (compliance)
   int restorations = 0;
   double max_restoring_change = 0;
@@ -113,6 +123,10 @@ struct StructurePhaseOptions {
   int max_iterations = -1;  ///< L-BFGS-B iterations per optimisation; −1: structure.max_iterations
   std::function<bool(const PatternProgress&)> progress;
   unsigned seed = 1;        ///< hole filling's random order
+  /// The minimum feature (m, fabrication.min_feature) kept between stencils and to the border
+  /// from the phase's start and after every optimisation (JointOptimizerOptions::min_gap), for
+  /// the energy-density objectives (not compliance: structure_phase.cpp says why).
+  double min_feature = 0;
   /// Checkpoints inside the phase (at every optimiser boundary; the partial result's `beta` is
   /// the live β) and resuming from one. The shell's state (its stencils and last equilibrium)
   /// is the caller's to save and, before resuming, to restore (StencilledShell::restore_equilibrium).

@@ -37,7 +37,7 @@ json stencils_json(const PatternContext& ctx, const DesignResult& r) {
   const StructurePhaseResult* s = r.structure ? &*r.structure : nullptr;
   return {{"count", r.layout.size()},
           {"initial", r.pattern.initial_count},
-          {"removed", r.pattern.removed + (s ? s->removed : 0)},
+          {"removed", r.pattern.removed + (s ? s->removed + s->removed_for_min_feature : 0)},
           {"inserted_by_hole_filling", r.pattern.inserted_by_hole_filling + (s ? s->inserted_by_hole_filling : 0)},
           {"type_changes", r.pattern.type_changes + (s ? s->type_changes : 0)},
           {"by_type", per_type}};
@@ -63,6 +63,7 @@ json structure_json(const Scene& scene, const DesignResult& r) {
   const StructurePhaseResult* s = r.structure ? &*r.structure : nullptr;
   json st = {{"objective", s ? s->objective : "none"},
              {"w_S", scene.structure.w_S},
+             {"measure", scene.structure.measure == DensityMeasure::Peak ? "peak" : "mean"},
              {"beta", s ? number_or_null(s->beta) : json(nullptr)},
              {"beta_fraction", s && std::isfinite(s->beta) && s->w_ref > 0 ? json(s->beta / s->w_ref) : json(nullptr)},
              {"beta_reference", s ? number_or_null(s->w_ref) : json(nullptr)},
@@ -70,6 +71,7 @@ json structure_json(const Scene& scene, const DesignResult& r) {
              {"W_max_pattern", r.pattern_design.summary.W_max},
              {"W_max_final", r.final_design.summary.W_max},
              {"W_peak_max_uncut", number_or_null(r.uncut.summary.W_peak_max)},
+             {"W_peak_max_pattern", number_or_null(r.pattern_design.summary.W_peak_max)},
              {"W_peak_max_final", number_or_null(r.final_design.summary.W_peak_max)},
              {"W_peak_rule", std::isfinite(r.final_design.summary.W_peak_max) ? kPeakEnergyDensityRule
                                                                               : kPeakEnergyDensityAbsent},
@@ -161,6 +163,8 @@ json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternC
 DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const PatternContext& ctx,
                             const DesignResult& result, DesignRunInfo info, const Stopwatch& since_start) {
   for (const auto& [name, seconds] : result.timings.entries()) info.timings.add(name, seconds);
+  if (result.structure)
+    for (const std::string& n : result.structure->notes) info.notes.push_back(n);
   DesignOutputs out;
   out.meshes = &meshes;
   out.ctx = &ctx;
@@ -198,12 +202,25 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   return out;
 }
 
+namespace {
+
+/// The per-face fields of a design on the simulation mesh: alpha, W of the final and the pattern
+/// design, and W_peak of the final design where the mechanics has concentration factors.
+std::map<std::string, Eigen::VectorXd> design_face_fields(const DesignResult& r) {
+  std::map<std::string, Eigen::VectorXd> fields = {{"alpha", r.final_design.alpha},
+                                                   {"W", r.final_design.summary.energy_density},
+                                                   {"W_pattern", r.pattern_design.summary.energy_density}};
+  if (r.final_design.summary.peak_energy_density.size() > 0)
+    fields["W_peak"] = r.final_design.summary.peak_energy_density;
+  return fields;
+}
+
+}  // namespace
+
 void write_design_outputs(const FilePlacer& place, const DesignOutputs& o) {
   const DesignResult& r = *o.result;
   write_stencils_json(place("stencils.json"), r.layout, o.ctx->surface(), o.ctx->shapes());
-  write_ply_with_face_fields(place("fields.ply"), o.meshes->sim,
-                             {{"alpha", r.final_design.alpha}, {"W", r.final_design.summary.energy_density},
-                              {"W_pattern", r.pattern_design.summary.energy_density}});
+  write_ply_with_face_fields(place("fields.ply"), o.meshes->sim, design_face_fields(r));
   write_obj(place("cut.obj"), o.cut.vertices, o.cut.faces);
   if (o.files) o.files->write(place);
   write_json_atomic(place("report.json"), o.report);
@@ -231,9 +248,7 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
   in.title = scene.name;
   in.base = &meshes.base;
   in.sim = &meshes.sim;
-  in.sim_fields.face = {{"alpha", r.final_design.alpha},
-                        {"W", r.final_design.summary.energy_density},
-                        {"W_pattern", r.pattern_design.summary.energy_density}};
+  in.sim_fields.face = design_face_fields(r);
   in.sim_fields.vertex = {{"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha)}};
   if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
   const std::vector<StencilParams> params = layout_params(r.layout);

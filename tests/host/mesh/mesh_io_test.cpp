@@ -424,6 +424,11 @@ INSTANTIATE_TEST_SUITE_P(
                 "at most 4 (at least 6 bytes each; truncated file or wrong element count)"},
         BadFile{"no_end_header.ply", "PLY header has no end_header line (truncated or not a PLY file)"},
         BadFile{"bare_property.ply", "PLY header line 7 'property': expected 'property <type> <name>'"},
+        // A NUL inside a property name: assimp's PLY reader crashed on it (SEGV, found by fuzzing).
+        BadFile{"nul_in_property_name.ply",
+                "PLY header line 5 has a control byte 0x00 at column 16 (binary data in the header, or "
+                "not a PLY file)"},
+        BadFile{"missing_y_property.ply", "the PLY vertex element has no 'y' property (positions are x, y and z)"},
         BadFile{"comment_only.off", "no OFF header (the file holds only blank or comment lines)"},
         BadFile{"out_of_range.off", "face 0 index 99 out of range [0,3)"},
         BadFile{"negative_index.off", "face 0 index -1 out of range [0,3)"},

@@ -70,6 +70,14 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   expect_rejected(d, {"/structure/beta", "(0, 1]"});
   d["structure"] = {{"objective", "strongest"}};
   expect_rejected(d, {"/structure/objective", "energy_density", "compliance"});
+  d["structure"] = {{"measure", "max"}};
+  expect_rejected(d, {"/structure/measure", "mean", "peak"});
+  // The peak measure's concentration factors come from the homogenised rule's cell problems.
+  d["structure"] = {{"measure", "peak"}};
+  expect_rejected(d, {"/structure/measure", "'peak' needs mechanics.stiffness 'homogenised'"});
+  d["mechanics"] = {{"stiffness", "homogenised"}};
+  EXPECT_EQ(parse_scene(d, "test").structure.measure, DensityMeasure::Peak);
+  EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["structure"]["measure"], "peak");
   d = minimal_scene();
   d["pattern"] = {{"seed", 1.5}};
   expect_rejected(d, {"/pattern/seed", "integer"});

@@ -28,12 +28,13 @@ Scene scene_from(const std::string& name, const json& patch = json::object()) {
 /// J(p) = w_S S(α(p), x(α(p))) + w_P P(p) through joint_objective — the function the optimiser
 /// minimises — against central differences along random directions in p = (q, s, φ)
 /// (the restoration of compliance's area constraint included).
-void check_joint_gradient(const char* objective, unsigned seed, const json& mechanics = json::object()) {
+void check_joint_gradient(const char* objective, unsigned seed, const json& mechanics = json::object(),
+                          const char* measure = "mean") {
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   // Stencils of 6 mm diameter on 10 mm simulation triangles: no triangle is ever covered
   // entirely, so no fill ratio sits at its clamp 1e-4 (a kink of α, where no derivative exists).
   const Scene scene = scene_from("plate", {{"pattern", {{"count", 40}, {"scale", 0.003}, {"seed", int(seed)}}},
-                                           {"structure", {{"objective", objective}, {"beta", 0.05}}},
+                                           {"structure", {{"objective", objective}, {"beta", 0.05}, {"measure", measure}}},
                                            {"mechanics", mechanics}});
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
@@ -59,6 +60,7 @@ void check_joint_gradient(const char* objective, unsigned seed, const json& mech
   const double w_ref = uncut_like.W_max;
   StructuralTerm term(shell, scene.structure.objective, scene.structure.w_S, scene.structure.beta * w_ref, w_ref,
                       uncut_like.compliance, shell.covered_area(nullptr));
+  term.set_measure(scene.structure.measure);
   ctx.energy().rematch(layout);
   const Eigen::VectorXi types = layout_types(layout);
   const std::vector<StencilParams> p0 = layout_params(layout);
@@ -110,6 +112,13 @@ TEST(JointGradient, CellFilteredHomogenisedStiffnessMatchesFiniteDifferences) {
   check_joint_gradient("compliance", 6, {{"stiffness", "homogenised"}, {"filter", "cell"}});
 }
 
+// The ligament peak as the measure (structure.measure "peak"): K(ᾱ) and the ratios' α-derivatives
+// in the chain, the cell filter's blend weights held fixed.
+TEST(JointGradient, PeakMeasureMatchesFiniteDifferences) {
+  check_joint_gradient("energy_density", 7, {{"stiffness", "homogenised"}, {"filter", "cell"}}, "peak");
+  check_joint_gradient("energy_density", 8, {{"stiffness", "homogenised"}}, "peak");
+}
+
 // ---------------------------------------------------------------- the plate (Fig. 5)
 
 DesignResult design(const Scene& scene, int pattern_iterations = -1, int structure_iterations = -1) {
@@ -134,6 +143,37 @@ TEST(StructurePhase, PlateStabilityLowersPeakEnergyDensityByAQuarter) {
   EXPECT_LT(r.structure->S_end, r.structure->S_start);
   // Stencils squeezed below their scale bound by the overlap resolution are removed: a few.
   EXPECT_GE(r.layout.size(), r.pattern.layout.size() * 98 / 100);
+}
+
+// structure.measure "peak" on the homogenised, cell-filtered plate: the ligament peak W_peak (the
+// quantity thresholded) falls well below the pattern design's, and fabrication.min_feature holds
+// as a hard constraint — at least that much material between any two stencils' enlarged bounding
+// circles and between one and the border (overlaps.h's gap).
+TEST(StructurePhase, PlatePeakMeasureLowersTheLigamentPeakAndKeepsTheMinimumFeature) {
+  const Scene scene = scene_from("plate", {{"mechanics", {{"stiffness", "homogenised"}, {"filter", "cell"}}},
+                                           {"structure", {{"measure", "peak"}}}});
+  ASSERT_GT(scene.fabrication.min_feature, 0);
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  PatternContext ctx(scene, meshes);
+  const DesignResult r = run_design(scene, meshes, lc, ctx, DesignOptions{});
+  ASSERT_TRUE(r.structure);
+  const double before = r.pattern_design.summary.W_peak_max, after = r.final_design.summary.W_peak_max;
+  RecordProperty("W_peak_max_pattern", std::to_string(before));
+  RecordProperty("W_peak_max_final", std::to_string(after));
+  ASSERT_TRUE(std::isfinite(before));
+  EXPECT_LE(after, 0.25 * before) << "W_peak_max " << before << " -> " << after;
+  EXPECT_LT(r.structure->S_end, 0.1 * r.structure->S_start);
+  const double s = ctx.settings().s, gap = scene.fabrication.min_feature;
+  EXPECT_FALSE(find_overlaps_brute_force(ctx.surface(), r.layout, s, gap).any());
+  // The pattern design, made without the gap, does not satisfy it: the constraint did work.
+  EXPECT_TRUE(find_overlaps_brute_force(ctx.surface(), r.pattern.layout, s, gap).any());
+  double narrowest = INFINITY;
+  for (size_t i = 0; i < r.layout.size(); ++i)
+    for (size_t j = i + 1; j < r.layout.size(); ++j)
+      narrowest = std::min(narrowest, (r.layout[i].position - r.layout[j].position).norm() -
+                                          (1 + s) * (r.layout[i].scale + r.layout[j].scale));
+  EXPECT_GE(narrowest, gap * (1 - 1e-9));
 }
 
 TEST(StructurePhase, PlateComplianceDropsAtEqualMaterial) {
