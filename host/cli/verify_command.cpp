@@ -87,6 +87,9 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
             {"W_peak_coarse", number_or_null(v.coarse.W_peak_max)},
             {"W_peak_conforming", v.levels.back().W_max},
             {"W_peak_ratio", number_or_null(v.W_peak_ratio)},
+            {"W_peak_conforming_change", number_or_null(v.peak_change)},
+            {"W_peak_conforming_converged", v.peak_converged},
+            {"W_peak_conforming_tolerance", solvers::kPeakTolerance},
             {"W_peak_rule", solvers::kPeakEnergyDensityRule},
             {"W_relative_l2", v.W_relative_l2},
             {"compared_faces", v.compared_faces},
@@ -226,8 +229,13 @@ void run_verify(const VerifyOptions& opts) {
                          (out / "report.json").string()));
     if (std::isfinite(v.W_peak_ratio))
       say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}), conforming "
-                           "W_max {:.4g} J/m², ratio {:.4f}",
-                           v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().W_max, v.W_peak_ratio));
+                           "W_max {:.4g} J/m² ({}), ratio {:.4f}",
+                           v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().W_max,
+                           std::isfinite(v.peak_change)
+                               ? fmt::format("{}: {:.2g}% change over the last level",
+                                             v.peak_converged ? "converged" : "NOT converged", 100 * v.peak_change)
+                               : std::string("one level: convergence unknown"),
+                           v.W_peak_ratio));
   }
 }
 

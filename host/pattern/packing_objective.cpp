@@ -8,13 +8,13 @@ namespace cutwork {
 
 double collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                            double safety, double unit, const std::vector<PointPair>& candidates,
-                           RowMatX3d* d_positions, Eigen::VectorXd* d_scales) {
+                           RowMatX3d* d_positions, Eigen::VectorXd* d_scales, double gap) {
   const double inv = 1.0 / unit;
   double value = 0;
   for (const PointPair& pr : candidates) {
     const Vec3 dq = (positions.row(pr.i) - positions.row(pr.j)).transpose();
     const double d = dq.norm();
-    const double g = ((1 + safety) * (scales[pr.i] + scales[pr.j]) - d) * inv;
+    const double g = ((1 + safety) * (scales[pr.i] + scales[pr.j]) + gap - d) * inv;
     if (!(g > 0)) continue;
     value += g * g;
     // ∂O/∂r_i = 2g(1+s)/ℓ, ∂O/∂q_i = −2g/ℓ · (q_i − q_j)/d.
@@ -34,16 +34,16 @@ double collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& sc
 double boundary_collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                                     double safety, double unit, const BoundaryPolylines& boundary,
                                     const Eigen::VectorXd* slack, RowMatX3d* d_positions,
-                                    Eigen::VectorXd* d_scales) {
+                                    Eigen::VectorXd* d_scales, double gap) {
   if (boundary.empty()) return 0.0;
   const double inv = 1.0 / unit;
   double value = 0;
   for (int i = 0; i < positions.rows(); ++i) {
     const Vec3 q = positions.row(i).transpose();
-    const double reach = (1 + safety) * scales[i] + (slack ? (*slack)[i] : 0.0);
+    const double reach = (1 + safety) * scales[i] + gap + (slack ? (*slack)[i] : 0.0);
     const auto bp = boundary.nearest(q, reach);
     if (!bp) continue;
-    const double g = ((1 + safety) * scales[i] - bp->signed_distance) * inv;
+    const double g = ((1 + safety) * scales[i] + gap - bp->signed_distance) * inv;
     if (!(g > 0)) continue;
     value += g * g;
     if (d_scales) (*d_scales)[i] += 2 * g * (1 + safety) * inv;
@@ -82,22 +82,22 @@ double growth_objective(const Eigen::VectorXd& scales, double unit, Eigen::Vecto
 }
 
 namespace {
-double candidate_cutoff(const Eigen::VectorXd& scales, double safety, double epsilon) {
+double candidate_cutoff(const Eigen::VectorXd& scales, double safety, double epsilon, double gap) {
   const double rmax = scales.size() ? scales.maxCoeff() : 0.0;
-  return std::max(epsilon, (1 + safety) * 2 * rmax);
+  return std::max(epsilon, (1 + safety) * 2 * rmax + gap);
 }
 }  // namespace
 
 std::vector<PointPair> packing_candidates(const RowMatX3d& positions, const Eigen::VectorXd& scales,
-                                          double safety, double epsilon) {
-  const double cutoff = candidate_cutoff(scales, safety, epsilon);
+                                          double safety, double epsilon, double gap) {
+  const double cutoff = candidate_cutoff(scales, safety, epsilon, gap);
   return PointGrid(positions, cutoff).pairs_within(cutoff);
 }
 
 std::vector<PointPair> packing_candidates_brute_force(const RowMatX3d& positions,
                                                       const Eigen::VectorXd& scales, double safety,
-                                                      double epsilon) {
-  return pairs_within_brute_force(positions, candidate_cutoff(scales, safety, epsilon));
+                                                      double epsilon, double gap) {
+  return pairs_within_brute_force(positions, candidate_cutoff(scales, safety, epsilon, gap));
 }
 
 double packing_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,

@@ -38,19 +38,23 @@ struct PackingWeights {
 };
 
 /// Collision (1) over candidate pairs (a superset of the colliding pairs is fine: inactive
-/// pairs contribute 0). Value in ℓ² units.
+/// pairs contribute 0). Value in ℓ² units. `gap` (m, default 0): an absolute width of material
+/// the pair must keep beyond its enlarged circles, Σ ((1+s)(r_i + r_j) + gap − d)₊² / ℓ² (the
+/// structural phase's minimum feature, host/pattern/overlaps.h); the candidates must then reach
+/// (1+s)·2·max r + gap.
 double collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                            double safety, double unit, const std::vector<PointPair>& candidates,
-                           RowMatX3d* d_positions, Eigen::VectorXd* d_scales);
+                           RowMatX3d* d_positions, Eigen::VectorXd* d_scales, double gap = 0);
 
 /// Boundary collision (2). The nearest boundary point of stencil i is searched within
 /// (1+s) r_i + slack_i (slack: the distance by which an unprojected position may sit off the
 /// surface; nullptr = 0), which finds it whenever the term is active for a point on the
 /// surface or beyond its boundary.
+/// With `gap` (m): ((1+s) r_i + gap − d_i)₊², searched within (1+s) r_i + gap + slack_i.
 double boundary_collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                                     double safety, double unit, const BoundaryPolylines& boundary,
                                     const Eigen::VectorXd* slack, RowMatX3d* d_positions,
-                                    Eigen::VectorXd* d_scales);
+                                    Eigen::VectorXd* d_scales, double gap = 0);
 
 /// Repulsion (3) over candidate pairs (pairs with d ≥ ε contribute 0). `epsilon` in m.
 double repulsion_objective(const RowMatX3d& positions, double epsilon, double unit,
@@ -59,13 +63,13 @@ double repulsion_objective(const RowMatX3d& positions, double epsilon, double un
 /// Growth (4): −Σ s_i / ℓ.
 double growth_objective(const Eigen::VectorXd& scales, double unit, Eigen::VectorXd* d_scales);
 
-/// Candidate pairs for (1) and (3): all pairs closer than max(ε, (1+s)·2·max r), from a uniform
-/// grid. The twin below scans all pairs.
+/// Candidate pairs for (1) and (3): all pairs closer than max(ε, (1+s)·2·max r + gap), from a
+/// uniform grid. The twin below scans all pairs.
 std::vector<PointPair> packing_candidates(const RowMatX3d& positions, const Eigen::VectorXd& scales,
-                                          double safety, double epsilon);
+                                          double safety, double epsilon, double gap = 0);
 std::vector<PointPair> packing_candidates_brute_force(const RowMatX3d& positions,
                                                       const Eigen::VectorXd& scales, double safety,
-                                                      double epsilon);
+                                                      double epsilon, double gap = 0);
 
 /// Parameters of the packing objective (5).
 struct PackingSettings {

@@ -62,18 +62,18 @@ double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales
 
   const bool packing = st.kind == PatternKind::Packing;
   const std::vector<PointPair> cand =
-      packing_candidates(c, scales, st.safety, packing ? st.epsilon : 0.0);
+      packing_candidates(c, scales, st.safety, packing ? st.epsilon : 0.0, st.gap);
   if (!packing) {
     t.det = weighted(1.0, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
       return det_objective(*m_exemplar, m_hoods, c, scales, types, pq, ps);
     });
   }
   t.collision = weighted(st.admissibility * st.weights.collision, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
-    return collision_objective(c, scales, st.safety, st.unit, cand, pq, ps);
+    return collision_objective(c, scales, st.safety, st.unit, cand, pq, ps, st.gap);
   });
   t.boundary = weighted(st.admissibility * st.weights.collision, &gq, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
     return boundary_collision_objective(q, scales, st.safety, st.unit, m_surface->boundary(), &slack,
-                                        pq, ps);
+                                        pq, ps, st.gap);
   });
   if (packing) {
     t.repulsion = weighted(st.weights.repulsion, &gc, [&](RowMatX3d* pq, Eigen::VectorXd*) {

@@ -36,6 +36,10 @@ struct PatternEnergySettings {
   /// admissible rather than pleasing. The joint optimiser divides P by the stencil count and
   /// raises this by the same factor, so admissibility keeps its strength (structure_phase.h).
   double admissibility = 1.0;
+  /// Material (m) the collision terms keep beyond the enlarged circles (packing_objective.h's
+  /// gap): the structural phase sets fabrication.min_feature here while it runs, so that the
+  /// optimiser already respects what the final overlap resolution enforces. 0 in the pattern phase.
+  double gap = 0.0;
 };
 
 /// Values of the parts of one evaluation (same units as the total).
@@ -53,6 +57,8 @@ class PatternEnergy {
   const PatternEnergySettings& settings() const { return m_settings; }
   /// See PatternEnergySettings::admissibility.
   void set_admissibility(double factor) { m_settings.admissibility = factor; }
+  /// See PatternEnergySettings::gap.
+  void set_gap(double gap) { m_settings.gap = gap; }
   /// DET: matches every stencil of `layout` and freezes the neighbourhoods and frames used by
   /// evaluate() until the next call (the alternation of §4.2/MWT11). Packing: nothing.
   void rematch(const StencilLayout& layout);

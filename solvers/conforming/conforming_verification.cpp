@@ -257,6 +257,16 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.max_displacement_ratio = ratio(v.coarse.max_displacement, f.max_displacement);
   v.W_max_ratio = ratio(v.coarse.W_max, f.W_max);
   if (std::isfinite(v.coarse.W_peak_max)) v.W_peak_ratio = ratio(v.coarse.W_peak_max, f.W_max);
+  if (v.levels.size() >= 2) {
+    const double previous = v.levels[v.levels.size() - 2].W_max;
+    v.peak_change = std::abs(f.W_max - previous) / f.W_max;
+    v.peak_converged = v.peak_change <= kPeakTolerance;
+    if (!v.peak_converged)
+      v.notes.push_back(fmt::format("the conforming peak energy density has not converged: {:.4g} → {:.4g} J/m² over the "
+                                    "last two levels ({:.2g}%; settled below {:.2g}%): its comparisons with W_max and "
+                                    "W_peak say little",
+                                    previous, f.W_max, 100 * v.peak_change, 100 * kPeakTolerance));
+  }
   compare_energy_densities(meshes.sim, v);
   // Dead loads carry the coarse totals by construction (resolve_load_case's match_totals); only
   // self-weight differs, by the difference between Σ α A and the conforming material area.

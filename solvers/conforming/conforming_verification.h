@@ -51,6 +51,9 @@
 
 namespace cutwork::solvers {
 
+/// The relative change of the conforming peak between two levels under which it counts as settled.
+inline constexpr double kPeakTolerance = 0.05;
+
 struct ConformingOptions {
   double edge_length = 0;   ///< conforming target edge length L (m) at the coarsest level; > 0
   int levels = 1;           ///< at most this many conforming solves at L, L/2, …; in [1, 6]
@@ -98,6 +101,12 @@ struct ConformingVerification {
   /// peak_energy_density.h) / conforming W_max (the conforming mesh resolves the rims, so its W_max
   /// is the peak it sees); NaN when the mechanics carries no concentration samples.
   double W_peak_ratio = NAN;
+  /// The conforming peak (W_max of a level) between the last two levels: |W_k − W_{k−1}| / W_k
+  /// (NaN with one level), and whether it is within kPeakTolerance. A rim's peak on constant-strain
+  /// triangles converges slowly, and not at all at a singular point (a re-entrant clamped corner,
+  /// a sharp stencil tip): W_peak_ratio means little while this is large.
+  double peak_change = NAN;
+  bool peak_converged = false;
   double W_relative_l2 = 0;            ///< √(Σ A_t (W_t − W̄_t)² / Σ A_t W̄_t²) over compared faces
   int worst_face = -1;                 ///< compared face with the largest |W_t − W̄_t|
   double worst_difference = 0;         ///< W_t − W̄_t there (J/m²)

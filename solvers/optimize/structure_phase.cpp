@@ -160,6 +160,20 @@ void StructuralTerm::finalize(const PatternSurface& surface, double safety, doub
     std::vector<StencilParams> p = layout_params(layout);
     restore(p);
     for (int i = 0; i < S; ++i) layout[size_t(i)].scale = p[size_t(i)].scale;
+    if (!m_restored && gap > 0) {
+      // The minimum feature leaves no room for the start's stencil area: keep the largest
+      // admissible layout the restoration reached (shrunk where it breaks the gap) and say how far
+      // below the target it ends.
+      resolve_overlaps(surface, layout, safety, Eigen::VectorXd::Zero(S), gap);
+      m_placed_valid = false;
+      place(layout_params(layout));
+      const double reached = m_shell.covered_area(nullptr);
+      m_finalize_note = fmt::format(
+          "compliance: the stencil area ends at {:.6g} m², {:.2f}% below the {:.6g} m² it was held at: "
+          "fabrication.min_feature ({:.3g} m) leaves no room to restore it",
+          reached, 100 * (1 - reached / m_target), m_target, gap);
+      break;
+    }
     if (!m_restored)
       throw SolveError(fmt::format("the total stencil area cannot be restored to {:.6g} m² once overlapping "
                                    "stencils are shrunk; lower structure.w_S or the stencil density",
@@ -242,11 +256,15 @@ void pattern_design_references(StencilledShell& shell, const StructureSettings& 
 /// The pattern term per stencil: S is intensive (a mean over triangles), so P is made one too
 /// and J does not depend on how many stencils or triangles the design has. The admissibility
 /// terms (collision, boundary, tether) keep their pattern-phase strength: they are constraints,
-/// not taste, and must not weaken as the design grows. Restores the energy's scale when done.
+/// not taste, and must not weaken as the design grows. The collision terms keep `gap` of material
+/// (the minimum feature) while the phase runs. Restores the energy's scale and gap when done.
 class PerStencilPattern {
  public:
-  explicit PerStencilPattern(PatternContext& ctx) : m_ctx(ctx) {}
-  ~PerStencilPattern() { m_ctx.energy().set_admissibility(1.0); }
+  PerStencilPattern(PatternContext& ctx, double gap) : m_ctx(ctx) { m_ctx.energy().set_gap(gap); }
+  ~PerStencilPattern() {
+    m_ctx.energy().set_admissibility(1.0);
+    m_ctx.energy().set_gap(0.0);
+  }
   PerStencilPattern(const PerStencilPattern&) = delete;
   PerStencilPattern& operator=(const PerStencilPattern&) = delete;
 
@@ -287,7 +305,7 @@ void optimize_structure(PatternContext& ctx, const StencilledShell& shell, Struc
   JointOptimizerOptions po;
   po.joint = &term;
   po.max_rotation = settings.max_rotation * std::numbers::pi / 180.0;
-  po.min_gap = settings.objective == Objective::Compliance ? 0.0 : options.min_feature;
+  po.min_gap = options.min_feature;
   po.max_iterations = options.max_iterations >= 0 ? options.max_iterations : settings.max_iterations;
   po.progress = options.progress;
   if (cp.save)
@@ -339,12 +357,10 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
   if (settings.objective == Objective::None) throw InternalError("run_structure_phase: the structural objective is 'none'");
   if (!(w_ref > 0)) throw SolveError("the uncut shell carries no strain energy: W_max is 0");
   const PhaseCheckpoints<StructurePhaseResult>& cp = options.checkpoints;
-  // The minimum feature is held by the energy-density objectives. Compliance holds the pattern
-  // design's stencil area instead, and the two conflict: restoring the area grows stencils into
-  // the gap, and on the plate (material 44%) the alternation of restoring and shrinking misses the
-  // area by 6% of the material. Compliance designs keep the paper's admissibility, and the
-  // fabrication check reports their ligaments.
-  const double min_gap = settings.objective == Objective::Compliance ? 0.0 : options.min_feature;
+  // The minimum feature: the start is made to keep it, the pattern term's collision penalties
+  // keep it softly while the optimiser runs, and the overlap resolution after each optimisation
+  // exactly (compliance: with its area restored, StructuralTerm::finalize).
+  const double min_gap = options.min_feature;
   StructurePhaseResult result;
   if (cp.resume) {
     result = *cp.resume_result;
@@ -372,7 +388,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
   StructuralTerm term(shell, settings.objective, settings.w_S, result.beta, w_ref, result.c_ref,
                       result.covered_area_target);
   term.set_measure(settings.measure);
-  const PerStencilPattern pattern(ctx);
+  const PerStencilPattern pattern(ctx, min_gap);
   if (cp.resume) {
     term.set_counters(result.restorations, result.max_restoring_change);
   } else {
@@ -381,6 +397,7 @@ StructurePhaseResult run_structure_phase(PatternContext& ctx, StencilledShell& s
       throw SolveError("the pattern design has no stable equilibrium under the scene's loads");
   }
   optimize_structure(ctx, shell, term, pattern, settings, options, result);
+  if (!term.finalize_note().empty()) result.notes.push_back(term.finalize_note());
 
   result.beta = settings.objective == Objective::Compliance ? std::nan("") : term.beta();
   result.J_end = pattern.joint_value(term, settings.w_S, result.layout, result.S_end, result.P_end);

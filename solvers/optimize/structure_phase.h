@@ -65,6 +65,9 @@ class StructuralTerm final : public JointTerm {
   /// factors come from the shell's mechanics. Throws InputError for Peak when it has none.
   void set_measure(DensityMeasure measure);
   DensityMeasure measure() const { return m_measure; }
+  /// Why finalize() left the compliance constraint below its target (the minimum feature left no
+  /// room); empty when it did not.
+  const std::string& finalize_note() const { return m_finalize_note; }
 
   /// Restorations so far and the largest |k − 1| among them.
   int restorations() const { return m_restorations; }
@@ -87,6 +90,7 @@ class StructuralTerm final : public JointTerm {
   double m_w_S, m_beta, m_w_ref, m_c_ref, m_target;
   DensityMeasure m_measure = DensityMeasure::Mean;
   ConcentrationMap m_K;  ///< the shell's concentration factors (Peak)
+  std::string m_finalize_note;
   double m_last_S = std::nan(""), m_last_W_max = std::nan("");
   // The last restoration: k, the original scales, ∂C/∂p at the restored parameters (#S×5).
   double m_k = 1;
@@ -123,9 +127,10 @@ struct StructurePhaseOptions {
   int max_iterations = -1;  ///< L-BFGS-B iterations per optimisation; −1: structure.max_iterations
   std::function<bool(const PatternProgress&)> progress;
   unsigned seed = 1;        ///< hole filling's random order
-  /// The minimum feature (m, fabrication.min_feature) kept between stencils and to the border
-  /// from the phase's start and after every optimisation (JointOptimizerOptions::min_gap), for
-  /// the energy-density objectives (not compliance: structure_phase.cpp says why).
+  /// The minimum feature (m, fabrication.min_feature) kept between stencils and to the border:
+  /// the start is shrunk to keep it, the collision penalties keep it softly during the phase
+  /// (PatternEnergySettings::gap) and the overlap resolution after every optimisation exactly
+  /// (JointOptimizerOptions::min_gap).
   double min_feature = 0;
   /// Checkpoints inside the phase (at every optimiser boundary; the partial result's `beta` is
   /// the live β) and resuming from one. The shell's state (its stencils and last equilibrium)

@@ -27,10 +27,16 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
   r["mechanics"] = {{"bending", mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                     {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
                     {"filter", mechanics.filter == FillFilter::Cell ? "cell" : "none"}};
-  if (!mechanics.stiffness_curve.empty())
-    r["mechanics"]["stiffness_curve"] = {{"alpha", mechanics.stiffness_curve.alpha},
-                                         {"membrane_ratio", mechanics.stiffness_curve.membrane},
-                                         {"bending_ratio", mechanics.stiffness_curve.bending}};
+  if (!mechanics.stiffness_curve.empty()) {
+    const FillStiffnessCurve& c = mechanics.stiffness_curve;
+    r["mechanics"]["stiffness_curve"] = {{"alpha", c.alpha}, {"membrane_ratio", c.membrane}, {"bending_ratio", c.bending}};
+    // The cell problems' concentration factors K = peak / mean energy density (W_peak's; the
+    // sample at α = 1 is the dilute limit).
+    if (!c.membrane_concentration.empty()) {
+      r["mechanics"]["stiffness_curve"]["membrane_concentration"] = c.membrane_concentration;
+      r["mechanics"]["stiffness_curve"]["bending_concentration"] = c.bending_concentration;
+    }
+  }
   r["timings"] = timings_json(timings);
   return r;
 }

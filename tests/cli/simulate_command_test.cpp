@@ -156,6 +156,16 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
     EXPECT_LT(curve["membrane_ratio"][k].get<double>(), 1.0);
     EXPECT_LT(curve["bending_ratio"][k].get<double>(), 1.0);
   }
+  // The concentration factors W_peak uses, one per sample, every one above 1 (the α = 1 sample
+  // is the dilute limit, Kirsch's hole).
+  ASSERT_EQ(curve["membrane_concentration"].size(), n);
+  ASSERT_EQ(curve["bending_concentration"].size(), n);
+  for (size_t k = 0; k < n; ++k) {
+    EXPECT_GT(curve["membrane_concentration"][k].get<double>(), 1.5);
+    EXPECT_GT(curve["bending_concentration"][k].get<double>(), 1.5);
+  }
+  // The peak measure's threshold is reported with its measure.
+  EXPECT_EQ(design["structure"]["measure"], "mean");
 
   const std::string stencils = (dir / "design" / "stencils.json").string();
   const auto h = run_cutwork("simulate " + scene_file.string() + " --device cpu --no-render --stencils " + stencils +

@@ -66,6 +66,13 @@ TEST(PackingObjective, CollisionGradient) {
   double v = term(q, r, nullptr, nullptr);
   ASSERT_GT(v, 0) << "the configuration must have collisions";
   EXPECT_TRUE(check_term(term, q, r, 1e-6, "collision (1)"));
+  // With the minimum feature's gap: more pairs active, the same exact gradient.
+  const double gap = 0.3;
+  auto with_gap = [&](const RowMatX3d& qq, const Eigen::VectorXd& rr, RowMatX3d* gq, Eigen::VectorXd* gr) {
+    return collision_objective(qq, rr, s, unit, cand, gq, gr, gap);
+  };
+  EXPECT_GT(with_gap(q, r, nullptr, nullptr), v);
+  EXPECT_TRUE(check_term(with_gap, q, r, 1e-6, "collision (1) with a gap"));
 }
 
 TEST(PackingObjective, CollisionValueForOnePair) {
@@ -78,6 +85,10 @@ TEST(PackingObjective, CollisionValueForOnePair) {
   EXPECT_NEAR(collision_objective(q, r, 0.2, 0.5, cand, nullptr, nullptr), 0.36, 1e-14);
   q(1, 0) = 1.8;  // exactly touching with the safety factor: no collision
   EXPECT_EQ(collision_objective(q, r, 0.2, 0.5, cand, nullptr, nullptr), 0.0);
+  // A gap of 0.1 m must stay between the enlarged circles: ((1.8 + 0.1 − 1.8)/0.5)² = 0.04.
+  EXPECT_NEAR(collision_objective(q, r, 0.2, 0.5, cand, nullptr, nullptr, 0.1), 0.04, 1e-14);
+  q(1, 0) = 1.9;
+  EXPECT_EQ(collision_objective(q, r, 0.2, 0.5, cand, nullptr, nullptr, 0.1), 0.0);
 }
 
 TEST(PackingObjective, RepulsionGradientAndContinuity) {
@@ -145,6 +156,12 @@ TEST(PackingObjective, BoundaryCollisionGradientOnPlateAndBowl) {
     };
     ASSERT_GT(term(q, r, nullptr, nullptr), 0);
     EXPECT_TRUE(check_term(term, q, r, 1e-7 * e, std::string("boundary collision (2) on ") + name));
+    const double gap = 0.4 * e;
+    auto with_gap = [&](const RowMatX3d& qq, const Eigen::VectorXd& rr, RowMatX3d* gq, Eigen::VectorXd* gr) {
+      return boundary_collision_objective(qq, rr, s, unit, bl, nullptr, gq, gr, gap);
+    };
+    EXPECT_GT(with_gap(q, r, nullptr, nullptr), term(q, r, nullptr, nullptr));
+    EXPECT_TRUE(check_term(with_gap, q, r, 1e-7 * e, std::string("boundary collision (2) with a gap on ") + name));
   }
 }
 

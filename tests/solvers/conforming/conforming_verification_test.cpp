@@ -2,6 +2,7 @@
 // sheet land on its outer boundary only (not on the rim of the hole cut into it), and the
 // perforated cantilever's point load keeps its total on the conforming mesh; every conforming face
 // maps onto a coarse face, and the comparison runs over the material only.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -154,6 +155,12 @@ TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBrackets
   const ConformingVerification all = verify_conforming(scene, meshes, lc, ctx, stencils, o);
   ASSERT_EQ(all.levels.size(), 4u);
   EXPECT_EQ(all.stop, "levels");
+  // The conforming peak's convergence is the last two levels' W_max, and the flag follows it.
+  const double peak_change = std::abs(all.levels[3].W_max - all.levels[2].W_max) / all.levels[3].W_max;
+  EXPECT_DOUBLE_EQ(all.peak_change, peak_change);
+  EXPECT_EQ(all.peak_converged, peak_change <= kPeakTolerance);
+  RecordProperty("peak_levels", fmt::format("{:.4g} {:.4g} {:.4g} {:.4g}", all.levels[0].W_max, all.levels[1].W_max,
+                                            all.levels[2].W_max, all.levels[3].W_max));
   // Extrapolating from the first three levels: the fourth lies within the error bar.
   ConformingVerification three;
   three.levels.assign(all.levels.begin(), all.levels.begin() + 3);
@@ -177,6 +184,11 @@ TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBrackets
   EXPECT_EQ(budget.levels.size(), 2u);
   EXPECT_EQ(budget.stop, "budget");
   EXPECT_FALSE(budget.converged);
+  // One level: nothing to say about the peak's convergence.
+  o.levels = 1;
+  const ConformingVerification one = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  EXPECT_TRUE(std::isnan(one.peak_change));
+  EXPECT_FALSE(one.peak_converged);
 }
 
 TEST(ConformingVerification, PiecesCutLooseAreLeftOutAndSaid) {

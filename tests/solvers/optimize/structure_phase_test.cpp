@@ -145,18 +145,45 @@ TEST(StructurePhase, PlateStabilityLowersPeakEnergyDensityByAQuarter) {
   EXPECT_GE(r.layout.size(), r.pattern.layout.size() * 98 / 100);
 }
 
+/// A design of `scene` with its meshes and pattern context kept, for checks on its surface.
+struct DesignWithContext {
+  explicit DesignWithContext(const Scene& s)
+      : scene(s),
+        meshes(build_scene_meshes(scene)),
+        lc(resolve_load_case(scene, meshes.sim)),
+        ctx(scene, meshes),
+        result(run_design(scene, meshes, lc, ctx, DesignOptions{})) {}
+  Scene scene;
+  SceneMeshes meshes;
+  LoadCase lc;
+  PatternContext ctx;
+  DesignResult result;
+};
+
+/// fabrication.min_feature (> 0) is held by the final layout — checked by the overlap test with
+/// the gap and measured directly between the enlarged circles — and not by the pattern design's,
+/// so that the constraint did work.
+void expect_minimum_feature_held(const DesignWithContext& d) {
+  const StencilLayout& layout = d.result.layout;
+  const double s = d.ctx.settings().s, gap = d.scene.fabrication.min_feature;
+  ASSERT_GT(gap, 0);
+  EXPECT_FALSE(find_overlaps_brute_force(d.ctx.surface(), layout, s, gap).any());
+  EXPECT_TRUE(find_overlaps_brute_force(d.ctx.surface(), d.result.pattern.layout, s, gap).any());
+  double narrowest = INFINITY;
+  for (size_t i = 0; i < layout.size(); ++i)
+    for (size_t j = i + 1; j < layout.size(); ++j)
+      narrowest = std::min(narrowest, (layout[i].position - layout[j].position).norm() -
+                                          (1 + s) * (layout[i].scale + layout[j].scale));
+  EXPECT_GE(narrowest, gap * (1 - 1e-9));
+}
+
 // structure.measure "peak" on the homogenised, cell-filtered plate: the ligament peak W_peak (the
 // quantity thresholded) falls well below the pattern design's, and fabrication.min_feature holds
-// as a hard constraint — at least that much material between any two stencils' enlarged bounding
-// circles and between one and the border (overlaps.h's gap).
+// as a hard constraint (overlaps.h's gap).
 TEST(StructurePhase, PlatePeakMeasureLowersTheLigamentPeakAndKeepsTheMinimumFeature) {
-  const Scene scene = scene_from("plate", {{"mechanics", {{"stiffness", "homogenised"}, {"filter", "cell"}}},
-                                           {"structure", {{"measure", "peak"}}}});
-  ASSERT_GT(scene.fabrication.min_feature, 0);
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  const LoadCase lc = resolve_load_case(scene, meshes.sim);
-  PatternContext ctx(scene, meshes);
-  const DesignResult r = run_design(scene, meshes, lc, ctx, DesignOptions{});
+  const DesignWithContext d(scene_from("plate", {{"mechanics", {{"stiffness", "homogenised"}, {"filter", "cell"}}},
+                                                 {"structure", {{"measure", "peak"}}}}));
+  const DesignResult& r = d.result;
   ASSERT_TRUE(r.structure);
   const double before = r.pattern_design.summary.W_peak_max, after = r.final_design.summary.W_peak_max;
   RecordProperty("W_peak_max_pattern", std::to_string(before));
@@ -164,20 +191,13 @@ TEST(StructurePhase, PlatePeakMeasureLowersTheLigamentPeakAndKeepsTheMinimumFeat
   ASSERT_TRUE(std::isfinite(before));
   EXPECT_LE(after, 0.25 * before) << "W_peak_max " << before << " -> " << after;
   EXPECT_LT(r.structure->S_end, 0.1 * r.structure->S_start);
-  const double s = ctx.settings().s, gap = scene.fabrication.min_feature;
-  EXPECT_FALSE(find_overlaps_brute_force(ctx.surface(), r.layout, s, gap).any());
-  // The pattern design, made without the gap, does not satisfy it: the constraint did work.
-  EXPECT_TRUE(find_overlaps_brute_force(ctx.surface(), r.pattern.layout, s, gap).any());
-  double narrowest = INFINITY;
-  for (size_t i = 0; i < r.layout.size(); ++i)
-    for (size_t j = i + 1; j < r.layout.size(); ++j)
-      narrowest = std::min(narrowest, (r.layout[i].position - r.layout[j].position).norm() -
-                                          (1 + s) * (r.layout[i].scale + r.layout[j].scale));
-  EXPECT_GE(narrowest, gap * (1 - 1e-9));
+  expect_minimum_feature_held(d);
 }
 
 TEST(StructurePhase, PlateComplianceDropsAtEqualMaterial) {
-  const DesignResult r = design(scene_from("plate", {{"structure", {{"objective", "compliance"}}}}));
+  // The paper's setting (no minimum feature): the pattern design's material exactly.
+  const DesignResult r = design(scene_from("plate", {{"structure", {{"objective", "compliance"}}},
+                                                     {"fabrication", {{"min_feature", 0}}}}));
   ASSERT_TRUE(r.structure);
   const double c0 = r.pattern_design.summary.compliance, c1 = r.final_design.summary.compliance;
   RecordProperty("compliance_pattern", std::to_string(c0));
@@ -187,6 +207,22 @@ TEST(StructurePhase, PlateComplianceDropsAtEqualMaterial) {
   EXPECT_NEAR(m1, m0, 1e-3 * m0) << "material " << m0 << " -> " << m1;
   EXPECT_EQ(r.final_design.overlaps.pairs, 0);
   EXPECT_EQ(r.final_design.overlaps.boundary, 0);
+}
+
+// With the default minimum feature (1 mm) the phase starts from the pattern design shrunk to keep
+// it, holds that design's stencil area to the end, lowers its compliance, and ends keeping the gap.
+TEST(StructurePhase, PlateComplianceHoldsTheMinimumFeatureAndTheStartsMaterial) {
+  const DesignWithContext d(scene_from("plate", {{"structure", {{"objective", "compliance"}}}}));
+  const DesignResult& r = d.result;
+  ASSERT_TRUE(r.structure);
+  const StructurePhaseResult& s = *r.structure;
+  EXPECT_NEAR(s.covered_area_final, s.covered_area_target, 1e-9 * s.covered_area_target);
+  EXPECT_GT(s.covered_area_target, 0);
+  EXPECT_TRUE(s.notes.empty()) << s.notes.front();  // the area was restored, not given up
+  EXPECT_LT(r.final_design.summary.compliance, s.c_ref) << "the start's compliance " << s.c_ref;
+  RecordProperty("material_pattern", std::to_string(r.pattern_design.material_fraction));
+  RecordProperty("material_final", std::to_string(r.final_design.material_fraction));
+  expect_minimum_feature_held(d);
 }
 
 // ---------------------------------------------------------------- the paper's scenes, reduced
