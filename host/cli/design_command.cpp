@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -275,9 +276,13 @@ void run_design_command(const DesignCommandOptions& opts) {
   const nlohmann::json& disc = design.report.value("discretisation", nlohmann::json());
   say(opts.run,
       fmt::format("cutwork design: {}: {} stencils on {} triangles ({} simulated); W_max {:.4g} uncut, {:.4g} "
-                  "pattern, {:.4g} final (J/m^2); material left {:.1f}%{}; wrote {}",
+                  "pattern, {:.4g} final (J/m^2){}; material left {:.1f}%{}; wrote {}",
                   scene.name, r.layout.size(), meshes.base.num_faces(), meshes.sim.num_faces(),
                   r.uncut.summary.W_max, r.pattern_design.summary.W_max, r.final_design.summary.W_max,
+                  std::isfinite(r.final_design.summary.W_peak_max)
+                      ? fmt::format("; ligament peak W_peak {:.4g} pattern, {:.4g} final",
+                                    r.pattern_design.summary.W_peak_max, r.final_design.summary.W_peak_max)
+                      : std::string(),
                   100 * r.final_design.material_fraction,
                   disc.is_null() ? std::string()
                                  : fmt::format("; compliance {:.4g} J, estimated discretisation error {:.1f}%{}",

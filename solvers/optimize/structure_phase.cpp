@@ -204,7 +204,10 @@ std::optional<ObjectiveTerms> StructuralTerm::solve(std::span<const StencilParam
   ObjectiveTerms t = objective_terms(m_shell, m_objective, m_beta, m_w_ref, m_c_ref,
                                      m_measure == DensityMeasure::Peak ? &m_K : nullptr, W);
   m_last_S = t.value;
-  // W_max over material (structural_quantities.h), as the reports give it.
+  // W_max over material (structural_quantities.h), as the reports give it: of the mean W also
+  // when the objective measures W_peak.
+  if (m_measure == DensityMeasure::Peak)
+    W = energy_density(m_shell.model(), m_shell.solver().positions(), m_shell.solver().alpha());
   const std::vector<bool> material = material_faces(m_shell.alpha());
   m_last_W_max = 0;
   for (Eigen::Index f = 0; f < W.size(); ++f)

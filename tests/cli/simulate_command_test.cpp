@@ -144,6 +144,7 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   const auto d = run_cutwork("design " + scene_file.string() + " --phases pattern --device cpu --no-render --out " +
                              (dir / "design").string());
   ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_NE(d.err.find("ligament peak W_peak"), std::string::npos) << "the summary line gives W_peak: " << d.err;
   const auto design = read_json(dir / "design" / "report.json");
   EXPECT_EQ(design["mechanics"]["stiffness"], "homogenised");
   EXPECT_EQ(design["device"]["render"], "none") << "--no-render draws nothing";
