@@ -1,10 +1,11 @@
 #pragma once
 /// Scene-based models for the scaling and assembly benchmarks, and the process's peak memory.
 ///
-///   sheet_model(faces, bending)  the built-in `sheet` scene (1 m, pinned boundary, self-weight,
+///   sheet_model(faces, bending, stiffness)
+///                                the built-in `sheet` scene (1 m, pinned boundary, self-weight,
 ///                                h = 2 mm) simulated on its base mesh of about `faces` near-equilateral
-///                                triangles, with the given bending model. Cached per (faces, bending),
-///                                so every benchmark of one run sees the same model.
+///                                triangles, with the given bending model and fill stiffness rule.
+///                                Cached per arguments, so every benchmark of one run sees the same model.
 ///   process_cpu_seconds()        user and system CPU seconds of the whole process so far (every
 ///                                thread of every pool): the figure to trust on a shared machine.
 ///   peak_memory_gib()            VmHWM of /proc/self/status (GiB): the resident-set high-water mark of
@@ -14,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include <sys/resource.h>
@@ -24,15 +26,17 @@
 
 namespace cutwork::bench {
 
-inline const solvers::ShellModel& sheet_model(int faces, BendingModel bending = BendingModel::ShapeOperator) {
-  static std::map<std::pair<int, BendingModel>, std::unique_ptr<solvers::ShellModel>> cache;
-  std::unique_ptr<solvers::ShellModel>& slot = cache[{faces, bending}];
+inline const solvers::ShellModel& sheet_model(int faces, BendingModel bending = BendingModel::ShapeOperator,
+                                              FillStiffness stiffness = FillStiffness::Linear) {
+  static std::map<std::tuple<int, BendingModel, FillStiffness>, std::unique_ptr<solvers::ShellModel>> cache;
+  std::unique_ptr<solvers::ShellModel>& slot = cache[{faces, bending, stiffness}];
   if (slot) return *slot;
   Scene scene = load_scene("sheet");
   // Near-equilateral triangles of edge e: √3/4 e² each, on the 1 m² sheet.
   scene.mesh.edge_length = std::sqrt(4.0 / (std::sqrt(3.0) * faces));
   scene.mesh.sim_edge_length = 0;
   scene.mechanics.bending = bending;
+  scene.mechanics.stiffness = stiffness;  // homogenised: calibrated, with the isotropic split
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
   slot = std::make_unique<solvers::ShellModel>(meshes.sim, scene.material, lc, solvers::scene_mechanics(scene));

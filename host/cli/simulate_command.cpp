@@ -178,7 +178,7 @@ void run_simulate(const SimulateOptions& opts) {
   }
 
   const solvers::FillRatioSource fill{with_stencils ? opts.stencils : std::string("uncut"), shell.num_stencils(),
-                                      &alpha};
+                                      &alpha, &shell.face_alpha()};
   nlohmann::json report =
       solvers::simulate_report(scene, meshes, model, shell.solver(), stats, summary, fill, timings, device_report);
   if (estimate) report["discretisation"] = solvers::discretisation_json(*estimate);

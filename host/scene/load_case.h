@@ -39,7 +39,15 @@ struct FillStiffnessCurve {
   /// (membrane, bending) at each sample, ≥ 1; the last (α = 1) holds the dilute limit. Empty when
   /// not calibrated (solvers/objective/peak_energy_density.h says how they are used).
   std::vector<double> membrane_concentration, bending_concentration;
+  /// The isotropic split (optional; empty: the scalar rule above scales the whole of each element):
+  /// r of the bulk (equibiaxial) and shear (deviatoric) moduli separately, membrane and bending,
+  /// each (effective modulus / (α · solid modulus)); last = 1. A perforation softens the two modes
+  /// differently — on the hexagonal lattice of circles at α = 0.5, bending bulk 0.46 and shear 0.90
+  /// — so a scalar ratio gives the perforated sheet the solid's ν, which makes a cantilever of it
+  /// 8% too stiff there (solvers/shell/fill_stiffness_map.h).
+  std::vector<double> membrane_bulk, membrane_shear, bending_bulk, bending_shear;
   bool empty() const { return alpha.empty(); }
+  bool split() const { return !membrane_bulk.empty(); }
 };
 
 /// Which fill ratio a face's stiffness is evaluated at (scene key "mechanics.filter").

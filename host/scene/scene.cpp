@@ -192,9 +192,9 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   JsonObjectReader m = root.object("mechanics");
   const std::string bending = m.string("bending", "shape_operator", {"shape_operator", "hinge"});
   mechanics.bending = bending == "hinge" ? BendingModel::Hinge : BendingModel::ShapeOperator;
-  const std::string stiffness = m.string("stiffness", "linear", {"linear", "homogenised"});
+  const std::string stiffness = m.string("stiffness", "homogenised", {"linear", "homogenised"});
   mechanics.stiffness = stiffness == "homogenised" ? FillStiffness::Homogenised : FillStiffness::Linear;
-  const std::string filter = m.string("filter", "none", {"none", "cell"});
+  const std::string filter = m.string("filter", "cell", {"none", "cell"});
   mechanics.filter = filter == "cell" ? FillFilter::Cell : FillFilter::None;
   m.finish();
   return mechanics;

@@ -183,16 +183,21 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   NewtonSettings settings = options.newton;
   settings.log = [&v](const std::string& line) { v.notes.push_back(line); };
 
-  // 1. The coarse fill-ratio run.
-  v.alpha = design_fill_ratios(scene, ctx, meshes.sim, stencils, fill);
+  // 1. The coarse fill-ratio run (design_fill_ratios, with the filter kept for its blend).
+  const Eigen::VectorXd own =
+      fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim, stencils, fill);
+  const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
+  v.alpha = stencils.empty() ? own : filter.apply(own);
   // The conforming runs are at α = 1, where every fill rule is the solid.
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
   {
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     // W_peak's factors blend as the cell filter does (peak_energy_density.h).
-    const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
     solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr, filter.identity() ? nullptr : &filter.blend());
     v.coarse.edge_length = meshes.sim.mean_edge_length();
+    // The material the stencils leave is measured with the faces' own α, as a design measures it
+    // (the filter is not exactly area-conserving near borders, cell_filter.h).
+    v.coarse.material_area = own.dot(meshes.sim.face_areas());
   }
 
   // 2. Conforming runs, coarsest first, until converged, out of levels or over the budget; the

@@ -305,6 +305,12 @@ Eigen::Matrix3d solid_bending_stiffness(const Material& m) {
   return isotropic_voigt(m.youngs_modulus * std::pow(m.thickness, 3) / (12 * (1 - nu * nu)), nu);
 }
 
+Eigen::Vector2d isotropic_moduli(const Eigen::Matrix3d& C) {
+  const double bulk = (C(0, 0) + C(1, 1) + 2 * C(0, 1)) / 4;
+  const double shear = ((C(0, 0) + C(1, 1) - 2 * C(0, 1)) / 4 + C(2, 2)) / 2;
+  return {bulk, shear};
+}
+
 double max_hole_fraction(const StencilShape& shape, double ligament) {
   const double s = 0.25 * kSqrt3 * (1 - ligament);  // inside the rhombus's inscribed circle
   return std::min(1.0, shape.area * s * s / kCellArea);
@@ -365,6 +371,10 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   out.bending = C.bottomRightCorner<3, 3>();
   out.membrane_factor = (out.membrane * solid_membrane_stiffness(material).inverse()).trace() / 3;
   out.bending_factor = (out.bending * solid_bending_stiffness(material).inverse()).trace() / 3;
+  const Eigen::Vector2d m = isotropic_moduli(out.membrane), m0 = isotropic_moduli(solid_membrane_stiffness(material));
+  const Eigen::Vector2d b = isotropic_moduli(out.bending), b0 = isotropic_moduli(solid_bending_stiffness(material));
+  out.membrane_bulk_factor = m[0] / m0[0], out.membrane_shear_factor = m[1] / m0[1];
+  out.bending_bulk_factor = b[0] / b0[0], out.bending_shear_factor = b[1] / b0[1];
   stress_concentration(cell, tiled, period, centre, elements, fluctuation, material, 0.5 / options.resolution, out);
   return out;
 }

@@ -74,6 +74,11 @@ struct CellStiffness {
   Eigen::Matrix3d bending;           ///< D* (N·m), Voigt (κ_xx, κ_yy, 2κ_xy)
   double membrane_factor = 0;        ///< g_m = tr(C* C⁻¹)/3
   double bending_factor = 0;         ///< g_b = tr(D* D⁻¹)/3
+  /// The isotropic split (fill_stiffness_map.h): bulk and shear moduli of the isotropic projection
+  /// of C* (isotropic_moduli) over the solid's, membrane and bending; tr(C* C⁻¹)/3 = (g_K + 2 g_G)/3
+  /// where C* is isotropic.
+  double membrane_bulk_factor = 0, membrane_shear_factor = 0;
+  double bending_bulk_factor = 0, bending_shear_factor = 0;
   int vertices = 0, faces = 0;       ///< of the patch mesh
   /// Stress concentration (see concentration_states): K = peak W / mean W over the cell's material,
   /// max over the membrane states and over the bending states (1 for a solid cell).
@@ -89,6 +94,14 @@ double max_hole_fraction(const StencilShape& shape, double ligament = 0.05);
 /// [1 − max_hole_fraction, 1]. Throws InputError for α outside that range or bad options.
 CellStiffness homogenise_cell(const StencilShape& shape, const Material& material, double fill_ratio,
                               const CellOptions& options = {});
+
+/// The bulk and shear moduli (K, G) of the isotropic projection of a Voigt stiffness C (strains
+/// (e_xx, e_yy, γ_xy), or curvatures (κ_xx, κ_yy, 2κ_xy)): K = (C11 + C22 + 2 C12)/4, the
+/// equibiaxial modulus, and G = [(C11 + C22 − 2 C12)/4 + C33]/2, the mean of the two deviatoric
+/// moduli (equal for an isotropic C, and both invariant under rotating the lattice: a square
+/// lattice's two differ, and G averages them). For the solid membrane K = μ + λ, G = μ
+/// (shell_material.h); for the solid plate K = D (1 + ν)/2, G = D (1 − ν)/2.
+Eigen::Vector2d isotropic_moduli(const Eigen::Matrix3d& C);
 
 /// Closed-form solid stiffness (Voigt) of `material`: membrane C (N/m) and bending D (N·m).
 Eigen::Matrix3d solid_membrane_stiffness(const Material& material);

@@ -1,6 +1,7 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -15,21 +16,34 @@ namespace {
 /// Ratios (membrane, bending) of one shape at every grid point.
 struct ShapeCurve {
   std::vector<double> membrane, bending;
+  std::vector<double> membrane_bulk, membrane_shear, bending_bulk, bending_shear;  ///< the isotropic split
   std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
 };
 
 using CacheKey = std::tuple<std::vector<double>, double, double>;
 
+/// The ratios of one sample, in ShapeCurve's order: membrane, bending, then the split's four.
+using SampleRatios = std::array<double, 6>;
+
+void push_ratios(ShapeCurve& c, const SampleRatios& r) {
+  c.membrane.push_back(r[0]);
+  c.bending.push_back(r[1]);
+  c.membrane_bulk.push_back(r[2]);
+  c.membrane_shear.push_back(r[3]);
+  c.bending_bulk.push_back(r[4]);
+  c.bending_shear.push_back(r[5]);
+}
+
 ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options) {
   const std::vector<double>& grid = calibration_grid();
   const double lowest = 1 - max_hole_fraction(shape);
   ShapeCurve c;
-  double low_m = 0, low_b = 0, low_km = 1, low_kb = 1;
+  SampleRatios low{};
+  double low_km = 1, low_kb = 1;
   bool have_low = false;
   for (double alpha : grid) {
     if (alpha >= 1) {
-      c.membrane.push_back(1);
-      c.bending.push_back(1);
+      push_ratios(c, {1, 1, 1, 1, 1, 1});
       // The dilute limit: held at the last cut sample (a vanishing hole still concentrates stress).
       c.membrane_concentration.push_back(c.membrane_concentration.empty() ? 1 : c.membrane_concentration.back());
       c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
@@ -37,27 +51,40 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
     }
     const double a = std::max(alpha, lowest);
     if (a > alpha && have_low) {
-      c.membrane.push_back(low_m);
-      c.bending.push_back(low_b);
+      push_ratios(c, low);
       c.membrane_concentration.push_back(low_km);
       c.bending_concentration.push_back(low_kb);
       continue;
     }
     const CellStiffness cell = homogenise_cell(shape, material, a, options);
-    const double rm = cell.membrane_factor / cell.window_fill_ratio, rb = cell.bending_factor / cell.window_fill_ratio;
+    const double w = cell.window_fill_ratio;
+    const SampleRatios r = {cell.membrane_factor / w,      cell.bending_factor / w,
+                            cell.membrane_bulk_factor / w, cell.membrane_shear_factor / w,
+                            cell.bending_bulk_factor / w,  cell.bending_shear_factor / w};
     if (a > alpha) {
-      low_m = rm;
-      low_b = rb;
+      low = r;
       low_km = cell.membrane_concentration;
       low_kb = cell.bending_concentration;
       have_low = true;
     }
-    c.membrane.push_back(rm);
-    c.bending.push_back(rb);
+    push_ratios(c, r);
     c.membrane_concentration.push_back(cell.membrane_concentration);
     c.bending_concentration.push_back(cell.bending_concentration);
   }
   return c;
+}
+
+/// The material every calibration runs with: only ν is the design's. The ratios depend on ν alone
+/// in exact arithmetic, but the cell solve's round-off depends on E and h; with the cache keyed by
+/// ν, a sweep over thickness would otherwise see the curve of whichever variant calibrated first,
+/// and its results would depend on the order the variants ran in.
+Material canonical_material(double poisson_ratio) {
+  Material m;
+  m.youngs_modulus = 1e9;
+  m.poisson_ratio = poisson_ratio;
+  m.thickness = 0.05;  // in lattice spacings: a plate of a twentieth of the spacing
+  m.density = 1000;
+  return m;
 }
 
 }  // namespace
@@ -75,8 +102,9 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   const std::vector<double>& grid = calibration_grid();
   FillStiffnessCurve out;
   out.alpha = grid;
-  out.membrane.assign(grid.size(), 0.0);
-  out.bending.assign(grid.size(), 0.0);
+  for (std::vector<double>* r : {&out.membrane, &out.bending, &out.membrane_bulk, &out.membrane_shear,
+                                  &out.bending_bulk, &out.bending_shear})
+    r->assign(grid.size(), 0.0);
   out.membrane_concentration.assign(grid.size(), 1.0);
   out.bending_concentration.assign(grid.size(), 1.0);
   for (const StencilShape& shape : shapes.shapes()) {
@@ -90,19 +118,25 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
       if (it != cache.end()) c = it->second;
     }
     if (c.membrane.empty()) {
-      c = calibrate_shape(shape, material, options);
+      c = calibrate_shape(shape, canonical_material(material.poisson_ratio), options);
       std::unique_lock lock(mutex);
       cache.emplace(key, c);
     }
     for (size_t k = 0; k < grid.size(); ++k) {
       out.membrane[k] += c.membrane[k] / shapes.size();
       out.bending[k] += c.bending[k] / shapes.size();
+      out.membrane_bulk[k] += c.membrane_bulk[k] / shapes.size();
+      out.membrane_shear[k] += c.membrane_shear[k] / shapes.size();
+      out.bending_bulk[k] += c.bending_bulk[k] / shapes.size();
+      out.bending_shear[k] += c.bending_shear[k] / shapes.size();
       // Peaks: the worst shape (a face's α does not say which shape cut it).
       out.membrane_concentration[k] = std::max(out.membrane_concentration[k], c.membrane_concentration[k]);
       out.bending_concentration[k] = std::max(out.bending_concentration[k], c.bending_concentration[k]);
     }
   }
-  out.membrane.back() = out.bending.back() = 1.0;  // exactly, whatever the rounding of the mean
+  // Exactly 1 at α = 1, whatever the rounding of the mean.
+  out.membrane.back() = out.bending.back() = 1.0;
+  out.membrane_bulk.back() = out.membrane_shear.back() = out.bending_bulk.back() = out.bending_shear.back() = 1.0;
   return out;
 }
 

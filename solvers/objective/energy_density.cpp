@@ -23,13 +23,14 @@ double hinge_weight(const ShellModel& model, const ShellHinge& h, const Eigen::V
 /// under the linear rule); clamp hinges: 3 r_b(α_f)/A_f (a third of the face carries them).
 template <typename Visit>
 void for_each_density_term(const ShellModel& model, const Eigen::VectorXd& alpha, int e, bool derivatives,
-                           Visit&& visit) {
+                           DensityElements which, Visit&& visit) {
   const Eigen::VectorXd& A = model.mesh().face_areas();
   const FillStiffnessMap& g = model.fill_stiffness();
   const ElementRef ref = model.element(e);
+  if (which == DensityElements::Membrane && ref.kind != ElementKind::Membrane) return;
   const auto face_term = [&](int f, double factor, bool membrane) {
     double dr = 0;
-    const double r = membrane ? g.membrane_ratio(alpha[f], &dr) : g.bending_ratio(alpha[f], &dr);
+    const double r = g.part_ratio(!membrane, ref.part, alpha[f], &dr);
     visit(f, factor * r / A[f], [&](auto&& dw) {
       if (derivatives && dr != 0) dw(f, factor * dr / A[f]);
     });
@@ -61,17 +62,19 @@ void for_each_density_term(const ShellModel& model, const Eigen::VectorXd& alpha
 
 }  // namespace
 
-Eigen::VectorXd energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha) {
+Eigen::VectorXd energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                               DensityElements which) {
   ElementEnergies unit;
   shell_energy(model, x, alpha, &unit);
   Eigen::VectorXd W = Eigen::VectorXd::Zero(model.num_faces());
   for (int e = 0; e < model.num_elements(); ++e)
-    for_each_density_term(model, alpha, e, false, [&](int face, double w, auto&&) { W[face] += w * unit[e]; });
+    for_each_density_term(model, alpha, e, false, which, [&](int face, double w, auto&&) { W[face] += w * unit[e]; });
   return W;
 }
 
 void energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                        const Eigen::VectorXd& weights, RowMatX3d* d_positions, Eigen::VectorXd* d_alpha) {
+                        const Eigen::VectorXd& weights, RowMatX3d* d_positions, Eigen::VectorXd* d_alpha,
+                        DensityElements which) {
   const int nf = model.num_faces();
 
   if (d_alpha) {
@@ -82,7 +85,7 @@ void energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen
       ElementEnergies unit;
       shell_energy(model, x, alpha, &unit);
       for (int e = 0; e < model.num_elements(); ++e)
-        for_each_density_term(model, alpha, e, true, [&](int face, double, auto&& derivative) {
+        for_each_density_term(model, alpha, e, true, which, [&](int face, double, auto&& derivative) {
           derivative([&](int k, double dw) { (*d_alpha)[k] += weights[face] * dw * unit[e]; });
         });
     }
@@ -92,7 +95,7 @@ void energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen
   // Σ_i c_i ∂W_i/∂x = Σ_elements ω_e ∇U_e with ω_e = Σ_(face, w) c_face w.
   Eigen::VectorXd omega = Eigen::VectorXd::Zero(model.num_elements());
   for (int e = 0; e < model.num_elements(); ++e)
-    for_each_density_term(model, alpha, e, false,
+    for_each_density_term(model, alpha, e, false, which,
                           [&](int face, double w, auto&&) { omega[e] += weights[face] * w; });
   *d_positions = RowMatX3d::Zero(model.num_vertices(), 3);
   model.scatter_free(weighted_element_gradient(model, x, omega), *d_positions);

@@ -27,13 +27,19 @@
 
 namespace cutwork::solvers {
 
+/// Which elements' energy a density counts: all of them (W of (16)), or the membranes' only
+/// (W^memb_i = r_m U_i^memb / A_i, summed over the parts of a split membrane).
+enum class DensityElements { All, Membrane };
+
 /// W (#F, J/m²).
-Eigen::VectorXd energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha);
+Eigen::VectorXd energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                               DensityElements which = DensityElements::All);
 
 /// For weights c (#F): Σ_i c_i ∂W_i/∂x into d_positions (#V×3, 1/m·J/m²; rows of fixed vertices
 /// zero — they cannot move) and Σ_i c_i ∂W_i/∂α into d_alpha (#F). Either output may be null.
 /// This is all an objective built on W needs, e.g. S_stab (17) with c_i = (W_i − β)₊ / m.
 void energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                        const Eigen::VectorXd& weights, RowMatX3d* d_positions, Eigen::VectorXd* d_alpha);
+                        const Eigen::VectorXd& weights, RowMatX3d* d_positions, Eigen::VectorXd* d_alpha,
+                        DensityElements which = DensityElements::All);
 
 }  // namespace cutwork::solvers

@@ -55,7 +55,7 @@ double ConcentrationMap::ratio(const MonotoneCurve& r, double alpha, double* slo
 
 namespace {
 
-/// W_peak_t = a W_t + b M_t (M_t = U_t^memb / A_t) at α_t = alpha with blend weight w, and
+/// W_peak_t = a W_t + b M_t (M_t the membrane part of W_t) at α_t = alpha with blend weight w, and
 /// da/dα, db/dα (the header's rule).
 struct PeakCoefficients {
   double a = 1, b = 0, da = 0, db = 0;
@@ -64,29 +64,18 @@ struct PeakCoefficients {
 PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const ConcentrationMap& K, double alpha, double w) {
   PeakCoefficients c;
   if (alpha >= 1) return c;
-  double dkm = 0, dkb = 0, drho_m = 0, drho_b = 0, dr_m = 0, dr_b = 0;
+  double dkm = 0, dkb = 0, dqm = 0, dqb = 0;
   const double km = 1 + w * (K.membrane(alpha, &dkm) - 1), kb = 1 + w * (K.bending(alpha, &dkb) - 1);
   dkm *= w, dkb *= w;
-  const double rho_m = K.membrane_ratio(alpha, &drho_m), rho_b = K.bending_ratio(alpha, &drho_b);
-  const double r_m = g.membrane_ratio(alpha, &dr_m), r_b = g.bending_ratio(alpha, &dr_b);
-  c.a = kb * rho_b / r_b;
-  c.da = (dkb * rho_b + kb * drho_b) / r_b - kb * rho_b * dr_b / (r_b * r_b);
-  c.b = km * rho_m - c.a * r_m;
-  c.db = dkm * rho_m + km * drho_m - c.da * r_m - c.a * dr_m;
+  // q: perforated material's mean energy density over the model's (1 where the model's elements
+  // are the homogenised ones; the calibrated ratio ρ under the linear rule, whose r is 1).
+  double qm = 1, qb = 1;
+  if (g.linear()) qm = K.membrane_ratio(alpha, &dqm), qb = K.bending_ratio(alpha, &dqb);
+  c.a = kb * qb;
+  c.da = dkb * qb + kb * dqb;
+  c.b = km * qm - c.a;
+  c.db = dkm * qm + km * dqm - c.da;
   return c;
-}
-
-/// U_t^memb / A_t (#F): the face's membrane element energy at unit fill per area.
-Eigen::VectorXd membrane_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha) {
-  ElementEnergies unit;
-  shell_energy(model, x, alpha, &unit);
-  const Eigen::VectorXd& A = model.mesh().face_areas();
-  Eigen::VectorXd M = Eigen::VectorXd::Zero(model.num_faces());
-  for (int e = 0; e < model.num_elements(); ++e) {
-    const ElementRef ref = model.element(e);
-    if (ref.kind == ElementKind::Membrane) M[ref.index] += unit[e] / A[ref.index];
-  }
-  return M;
 }
 
 void check_weight(const ShellModel& model, const Eigen::VectorXd* weight) {
@@ -100,7 +89,7 @@ Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x,
                                     const ConcentrationMap& K, const Eigen::VectorXd* weight) {
   check_weight(model, weight);
   const Eigen::VectorXd W = energy_density(model, x, alpha);
-  const Eigen::VectorXd M = membrane_density(model, x, alpha);
+  const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
   Eigen::VectorXd peak(model.num_faces());
   for (int t = 0; t < model.num_faces(); ++t) {
     const PeakCoefficients c = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0);
@@ -120,24 +109,19 @@ void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const 
     const PeakCoefficients k = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0);
     ca[t] = c[t] * k.a, cb[t] = c[t] * k.b, dca[t] = c[t] * k.da, dcb[t] = c[t] * k.db;
   }
-  // Σ c a W: through W's own vector–Jacobian product.
+  // Σ c a W + Σ c b M: through the densities' own vector–Jacobian products, plus the coefficients'
+  // own α-derivatives.
   energy_density_vjp(model, x, alpha, ca, d_positions, d_alpha);
-  const Eigen::VectorXd& A = model.mesh().face_areas();
+  RowMatX3d membrane_x;
+  Eigen::VectorXd membrane_alpha;
+  energy_density_vjp(model, x, alpha, cb, d_positions ? &membrane_x : nullptr, d_alpha ? &membrane_alpha : nullptr,
+                     DensityElements::Membrane);
+  if (d_positions) *d_positions += membrane_x;
   if (d_alpha) {
+    *d_alpha += membrane_alpha;
     const Eigen::VectorXd W = energy_density(model, x, alpha);
-    const Eigen::VectorXd M = membrane_density(model, x, alpha);
+    const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
     for (int t = 0; t < nf; ++t) (*d_alpha)[t] += dca[t] * W[t] + dcb[t] * M[t];
-  }
-  if (d_positions) {
-    // Σ c b U^memb / A: the membrane elements weighted by c_t b_t / A_t.
-    Eigen::VectorXd omega = Eigen::VectorXd::Zero(model.num_elements());
-    for (int e = 0; e < model.num_elements(); ++e) {
-      const ElementRef ref = model.element(e);
-      if (ref.kind == ElementKind::Membrane) omega[e] = cb[ref.index] / A[ref.index];
-    }
-    RowMatX3d membrane = RowMatX3d::Zero(model.num_vertices(), 3);
-    model.scatter_free(weighted_element_gradient(model, x, omega), membrane);
-    *d_positions += membrane;
   }
 }
 

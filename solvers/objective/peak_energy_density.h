@@ -11,18 +11,19 @@
 /// The rule. Per face t,
 ///     W_peak_t = K_m(α_t) W_t^memb + K_b(α_t) W_t^bend,
 /// the mean energy densities of perforated material at the face's macroscopic strain and curvature:
-///     W_t^memb = r_m(α_t) U_t^memb / A_t,   W_t^bend = (r_b(α_t) / r_b^model(α_t)) (W_t − r_m^model U_t^memb / A_t),
-/// U_t^memb the face's membrane element energy at unit fill, r the calibrated ratios of the curve,
-/// r^model those the shell's elements use (r^model = r under the homogenised stiffness rule, 1 under
-/// the linear one), W_t − r_m^model U_t^memb / A_t the bending part of W_t whatever the bending
-/// model. Under the homogenised rule the two parts add up to W_t. Under the linear rule they do not:
-/// the linear rule's faces are stiffer than perforated material, and at the strain the linear model
-/// computes, perforated material stores r U/A per area of material (not U/A) — the rule takes the
-/// model's strain as given; where the load, not the strain, is prescribed, the linear model's strain
-/// and so its W_peak are too small by about r. K_m and K_b apply to their own parts: a plate's
-/// membrane and bending peaks sit at the same rim points, so adding them bounds the peak of the sum
-/// from above (up to the cross term). A face with α_t = 1 exactly is uncut: K = 1, r = 1,
-/// W_peak_t = W_t.
+///     W_t^memb = q_m(α_t) M_t,   W_t^bend = q_b(α_t) (W_t − M_t),
+/// M_t the membrane part of the model's W_t (r_m^model U_t^memb / A_t, U_t^memb the face's membrane
+/// element energy at unit fill, summed over the bulk and shear parts under the isotropic split of
+/// fill_stiffness_map.h) and W_t − M_t its bending part, whatever the bending model. Under the
+/// homogenised rule the model's elements are perforated material's, so q = 1 and the two parts add
+/// up to W_t. Under the linear rule they do not: q = ρ, the calibrated ratio of the curve (the
+/// linear rule's r is 1). The linear rule's faces are stiffer than perforated material, and at the
+/// strain the linear model computes, perforated material stores ρ U/A per area of material (not
+/// U/A) — the rule takes the model's strain as given; where the load, not the strain, is
+/// prescribed, the linear model's strain and so its W_peak are too small by about ρ. K_m and K_b
+/// apply to their own parts: a plate's membrane and bending peaks sit at the same rim points, so
+/// adding them bounds the peak of the sum from above (up to the cross term). A face with α_t = 1
+/// exactly is uncut: K = 1, q = 1, W_peak_t = W_t.
 ///
 /// K(α) between samples: the shape-preserving cubic of fill_stiffness_map.h (PCHIP; K need not be
 /// monotone, PCHIP does not overshoot the samples and is C¹), held constant outside the samples.
@@ -35,11 +36,10 @@
 /// stall the line search). Units: W in J/m².
 ///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
-///     W_peak_t = a(α_t) W_t + b(α_t) U_t^memb / A_t,
-///     a = k_b ρ_b / r_b^model,   b = k_m ρ_m − a r_m^model,
-/// with k the blended factors and ρ the calibrated ratios; a = 1, b = 0 at α = 1. The weights w
-/// (the cell filter's blend) do not depend on the stencils, so ∂W_peak/∂α is the α-derivative of
-/// a and b plus a times ∂W/∂α (peak_energy_density_vjp).
+///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
+/// with k the blended factors; a = 1, b = 0 at α = 1. The weights w (the cell filter's blend) do not
+/// depend on the stencils, so ∂W_peak/∂α is the α-derivative of a and b plus a ∂W/∂α + b ∂M/∂α
+/// (peak_energy_density_vjp).
 #include <Eigen/Core>
 
 #include "host/scene/load_case.h"

@@ -30,6 +30,13 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
   if (!mechanics.stiffness_curve.empty()) {
     const FillStiffnessCurve& c = mechanics.stiffness_curve;
     r["mechanics"]["stiffness_curve"] = {{"alpha", c.alpha}, {"membrane_ratio", c.membrane}, {"bending_ratio", c.bending}};
+    if (c.split()) {
+      nlohmann::json& j = r["mechanics"]["stiffness_curve"];
+      j["membrane_bulk_ratio"] = c.membrane_bulk;
+      j["membrane_shear_ratio"] = c.membrane_shear;
+      j["bending_bulk_ratio"] = c.bending_bulk;
+      j["bending_shear_ratio"] = c.bending_shear;
+    }
     // The cell problems' concentration factors K = peak / mean energy density (W_peak's; the
     // sample at α = 1 is the dilute limit).
     if (!c.membrane_concentration.empty()) {

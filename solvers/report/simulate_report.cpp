@@ -67,7 +67,7 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
                           {"stencils", fill.stencils},
                           {"min", alpha.minCoeff()},
                           {"mean", alpha.mean()},
-                          {"material_fraction", alpha.dot(A) / A.sum()}};
+                          {"material_fraction", (fill.face_alpha ? *fill.face_alpha : alpha).dot(A) / A.sum()}};
   return report;
 }
 

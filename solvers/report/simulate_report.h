@@ -17,7 +17,10 @@ namespace cutwork::solvers {
 struct FillRatioSource {
   std::string source = "uncut";    ///< "uncut" or the stencils.json file
   int stencils = 0;
-  const Eigen::VectorXd* alpha = nullptr;  ///< #F of the simulation mesh
+  const Eigen::VectorXd* alpha = nullptr;  ///< #F of the simulation mesh: what the stiffness sees
+  /// #F: the faces' own fill ratios, which measure the material left (null: alpha). They differ
+  /// from alpha under the cell filter (cell_filter.h), which is not exactly area-conserving.
+  const Eigen::VectorXd* face_alpha = nullptr;
 };
 
 /// base_report, device (unless null), equilibrium {max_displacement(_vertex), strain_energy,

@@ -77,6 +77,11 @@ FillStiffnessMap::FillStiffnessMap(const MechanicsSettings& mechanics) {
     throw InputError("homogenised stiffness: no calibrated curve (solvers/homogenise must fill it in first)");
   m_membrane = checked_curve(c.alpha, c.membrane, "membrane");
   m_bending = checked_curve(c.alpha, c.bending, "bending");
+  if (!c.split()) return;
+  m_membrane_bulk = checked_curve(c.alpha, c.membrane_bulk, "membrane bulk");
+  m_membrane_shear = checked_curve(c.alpha, c.membrane_shear, "membrane shear");
+  m_bending_bulk = checked_curve(c.alpha, c.bending_bulk, "bending bulk");
+  m_bending_shear = checked_curve(c.alpha, c.bending_shear, "bending shear");
 }
 
 double FillStiffnessMap::apply(const MonotoneCurve& r, double alpha, double* derivative) {

@@ -46,8 +46,8 @@ double element_fill_factor(const ShellModel& model, const Eigen::VectorXd& alpha
   const ElementRef ref = model.element(e);
   const FillStiffnessMap& g = model.fill_stiffness();
   switch (ref.kind) {
-    case ElementKind::Membrane: return g.membrane(alpha[ref.index]);
-    case ElementKind::Bend: return g.bending(alpha[model.bends()[ref.index].face]);
+    case ElementKind::Membrane: return g.factor(false, ref.part, alpha[ref.index]);
+    case ElementKind::Bend: return g.factor(true, ref.part, alpha[model.bends()[ref.index].face]);
     case ElementKind::Hinge: return hinge_fill_factor(model, model.hinges()[ref.index], alpha);
     case ElementKind::Clamp: return g.bending(alpha[model.clamp_hinges()[ref.index].face]);
   }
@@ -94,6 +94,14 @@ double shell_energy(const ShellModel& model, const RowMatX3d& x, const Eigen::Ve
   if (unit) unit->resize(ne);
   tbb::parallel_for(tbb::blocked_range<int>(0, ne, kEnergyElementsPerTask), [&](const tbb::blocked_range<int>& r) {
     for (int e = r.begin(); e < r.end(); ++e) {
+      const ElementRef ref = model.element(e);
+      if (!unit && ref.part != FillPart::Whole) {
+        // Without unit energies to return, both parts of a split element in one evaluation.
+        if (ref.part == FillPart::Bulk)
+          visit_split_element(model, x, alpha, e, ElementNeed::Energy,
+                              [&](const auto& l) { energy[e] = finite_or_inf(l.energy); });
+        continue;
+      }
       double u = 0;
       visit_element(model, x, e, 1.0, ElementNeed::Energy, [&](const auto& l) { u = l.energy; });
       if (unit) (*unit)[e] = u;
@@ -113,13 +121,20 @@ void assemble_shell(const ShellModel& model, const RowMatX3d& x, const Eigen::Ve
   double* grad = out.gradient.data();
   const ElementNeed need = with_hessian ? ElementNeed::Hessian : ElementNeed::Gradient;
 
-  for_each_element_by_colour(asmb, [&](int e) {
-    visit_element(model, x, e, element_fill_factor(model, alpha, e), need, [&](const auto& l) {
+  const auto scatter = [&](int e) {
+    return [&, e](const auto& l) {
       constexpr int K = int(std::tuple_size_v<std::decay_t<decltype(l.vertex)>>);
       asmb.scatter_vector<K>(e, l.gradient, grad);
       if (hess) asmb.scatter_matrix<K>(e, l.hessian, hess);
       out.element_energy[e] = finite_or_inf(l.energy);
-    });
+    };
+  };
+  for_each_element_by_colour(asmb, [&](int e) {
+    switch (model.element(e).part) {
+      case FillPart::Whole: visit_element(model, x, e, element_fill_factor(model, alpha, e), need, scatter(e)); return;
+      case FillPart::Bulk: visit_split_element(model, x, alpha, e, need, scatter(e)); return;
+      case FillPart::Shear: return;  // evaluated with its bulk part, which has the same nodes
+    }
   });
   out.energy = ordered_sum(out.element_energy);
 }

@@ -2,7 +2,8 @@
 /// Total elastic energy (11) of a ShellModel, Ŵ(x, α) = Σ_e s_e(α) U_e(x), with U_e the energy of
 /// element e at unit fill ratio and s_e its fill factor (g_m(α_f) for membranes, g_b(α_f) for
 /// shape-operator bends and clamp hinges, √(g_b(α_i) g_b(α_j)) for hinges (10); g(α) = α under the
-/// paper's linear rule, see fill_stiffness_map.h), with its gradient and Hessian over the free DOFs,
+/// paper's linear rule; under the isotropic split the bulk and shear parts of membranes and bends
+/// are elements of their own with their own g, see fill_stiffness_map.h), with its gradient and Hessian over the free DOFs,
 /// assembled in parallel (TBB) into the fixed pattern of ShellModel::assembly(). Results do not
 /// depend on the number of threads.
 ///
@@ -40,6 +41,13 @@ struct ElementLocal {
 template <typename Visit>
 void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double scale, ElementNeed need,
                    Visit&& visit);
+
+/// Under the isotropic split: the membrane or bend whose bulk part is element e, whole, with each
+/// part scaled by its fill factor at `alpha` — one evaluation of both parts (the energy is linear in
+/// the constitutive constants), which the assembly uses in place of the two elements.
+template <typename Visit>
+void visit_split_element(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha, int e,
+                         ElementNeed need, Visit&& visit);
 
 /// s_e(α) of element e.
 double element_fill_factor(const ShellModel& model, const Eigen::VectorXd& alpha, int e);
@@ -80,32 +88,66 @@ double hinge_fill_factor(const ShellModel& model, const ShellHinge& hinge, const
 
 // ---- implementation of the templates -------------------------------------------------------------
 
+namespace detail {
+
+/// Membrane `index` with Lamé parameters (N/m) `lame`, energy times `scale`.
+template <typename Visit>
+void visit_membrane(const ShellModel& model, const RowMatX3d& x, int index, const std::array<double, 2>& lame,
+                    double scale, ElementNeed need, Visit&& visit) {
+  ElementLocal<3> l;
+  for (int a = 0; a < 3; ++a) l.vertex[a] = model.mesh().faces()(index, a);
+  membrane_energy_gradient_hessian(membrane_positions(model, x, index), model.membranes()[index], lame[0], lame[1],
+                                   scale, &l.energy, need != ElementNeed::Energy ? &l.gradient : nullptr,
+                                   need == ElementNeed::Hessian ? &l.hessian : nullptr);
+  visit(l);
+}
+
+/// Shape-operator bend `index` with constitutive matrix C (dimensionless), energy times scale · D.
+template <typename Visit>
+void visit_bend(const ShellModel& model, const RowMatX3d& x, int index, const Eigen::Matrix3d& C, double scale,
+                ElementNeed need, Visit&& visit) {
+  const ShellBend& b = model.bends()[index];
+  ElementLocal<6> l;
+  for (int a = 0; a < 6; ++a) l.vertex[a] = b.v[a];
+  shape_operator_energy_gradient_hessian(bend_positions(b, x), b.rest, C, scale * model.stiffness().bending, &l.energy,
+                                         need != ElementNeed::Energy ? &l.gradient : nullptr,
+                                         need == ElementNeed::Hessian ? &l.hessian : nullptr);
+  visit(l);
+}
+
+}  // namespace detail
+
+template <typename Visit>
+void visit_split_element(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha, int e,
+                         ElementNeed need, Visit&& visit) {
+  const ElementRef ref = model.element(e);
+  const bool bend = ref.kind == ElementKind::Bend;
+  const double a = alpha[bend ? model.bends()[size_t(ref.index)].face : ref.index];
+  const FillStiffnessMap& g = model.fill_stiffness();
+  const double bulk = g.factor(bend, FillPart::Bulk, a), shear = g.factor(bend, FillPart::Shear, a);
+  if (!bend) {
+    const std::array<double, 2> b = model.membrane_lame(FillPart::Bulk), s = model.membrane_lame(FillPart::Shear);
+    detail::visit_membrane(model, x, ref.index, {bulk * b[0] + shear * s[0], bulk * b[1] + shear * s[1]}, 1.0, need,
+                           visit);
+  } else {
+    const Eigen::Matrix3d C =
+        bulk * model.bending_constitutive(FillPart::Bulk) + shear * model.bending_constitutive(FillPart::Shear);
+    detail::visit_bend(model, x, ref.index, C, 1.0, need, visit);
+  }
+}
+
 template <typename Visit>
 void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double scale, ElementNeed need,
                    Visit&& visit) {
   const bool want_g = need != ElementNeed::Energy, want_h = need == ElementNeed::Hessian;
   const ElementRef ref = model.element(e);
-  const ShellStiffness& k = model.stiffness();
   switch (ref.kind) {
-    case ElementKind::Membrane: {
-      ElementLocal<3> l;
-      for (int a = 0; a < 3; ++a) l.vertex[a] = model.mesh().faces()(ref.index, a);
-      membrane_energy_gradient_hessian(membrane_positions(model, x, ref.index), model.membranes()[ref.index], k.mu,
-                                       k.lambda, scale, &l.energy, want_g ? &l.gradient : nullptr,
-                                       want_h ? &l.hessian : nullptr);
-      visit(l);
+    case ElementKind::Membrane:
+      detail::visit_membrane(model, x, ref.index, model.membrane_lame(ref.part), scale, need, visit);
       return;
-    }
-    case ElementKind::Bend: {
-      const ShellBend& b = model.bends()[ref.index];
-      ElementLocal<6> l;
-      for (int a = 0; a < 6; ++a) l.vertex[a] = b.v[a];
-      shape_operator_energy_gradient_hessian(bend_positions(b, x), b.rest, model.bending_constitutive(),
-                                             scale * k.bending, &l.energy, want_g ? &l.gradient : nullptr,
-                                             want_h ? &l.hessian : nullptr);
-      visit(l);
+    case ElementKind::Bend:
+      detail::visit_bend(model, x, ref.index, model.bending_constitutive(ref.part), scale, need, visit);
       return;
-    }
     case ElementKind::Hinge: {
       const ShellHinge& h = model.hinges()[ref.index];
       ElementLocal<4> l;
@@ -133,10 +175,10 @@ void for_each_fill_dependence(const ShellModel& model, const Eigen::VectorXd& al
   const FillStiffnessMap& g = model.fill_stiffness();
   double d = 0;
   switch (ref.kind) {
-    case ElementKind::Membrane: g.membrane(alpha[ref.index], &d); visit(ref.index, d); return;
+    case ElementKind::Membrane: g.factor(false, ref.part, alpha[ref.index], &d); visit(ref.index, d); return;
     case ElementKind::Bend: {
       const int f = model.bends()[ref.index].face;
-      g.bending(alpha[f], &d);
+      g.factor(true, ref.part, alpha[f], &d);
       visit(f, d);
       return;
     }

@@ -114,6 +114,17 @@ void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced
   }
 }
 
+/// Ĉ and its bulk and shear parts (ShellModel::bending_constitutive), by FillPart.
+std::array<Eigen::Matrix3d, 3> bending_constitutive_parts(double nu) {
+  std::array<Eigen::Matrix3d, 3> c;
+  c[int(FillPart::Whole)] = bending_constitutive(nu);
+  c[int(FillPart::Bulk)] << 1, 1, 0, 1, 1, 0, 0, 0, 0;
+  c[int(FillPart::Bulk)] *= (1 + nu) / 2;
+  c[int(FillPart::Shear)] << 0.5, -0.5, 0, -0.5, 0.5, 0, 0, 0, 2;
+  c[int(FillPart::Shear)] *= 1 - nu;
+  return c;
+}
+
 /// The assembly pattern over the free nodes of `model` (its elements built, DOFs numbered): each
 /// element's nodes (−1 for a fixed vertex or a ghost), in element order (membranes, bends,
 /// hinges, clamp hinges).
@@ -135,6 +146,11 @@ BlockAssembly assembly_pattern(const ShellModel& model) {
     element_nodes.push_back(BlockAssembly::nodes({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])}));
   for (const ClampHinge& c : model.clamp_hinges())
     element_nodes.push_back(BlockAssembly::nodes({node(c.v[0]), node(c.v[1]), node(c.v[2])}));
+  if (model.fill_stiffness().split()) {
+    // The shear parts: the same nodes as the membranes' and the bends' bulk parts.
+    const std::size_t bulk_parts = std::size_t(nf) + model.bends().size();
+    for (std::size_t e = 0; e < bulk_parts; ++e) element_nodes.push_back(element_nodes[e]);
+  }
   return BlockAssembly(model.num_nodes(), element_nodes);
 }
 
@@ -147,7 +163,7 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
       m_stiffness(shell_stiffness(material)),
       m_mechanics(mechanics),
       m_fill_stiffness(mechanics),
-      m_bending_constitutive(solvers::bending_constitutive(material.poisson_ratio)),
+      m_bending_constitutive(bending_constitutive_parts(material.poisson_ratio)),
       m_load_case(load_case) {
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   const RowMatX3d& X = mesh.vertices();

@@ -12,6 +12,10 @@
 ///     both clamped.
 /// g_m, g_b are the fill stiffness rules of fill_stiffness_map.h: g(α) = α (the paper's, default) or
 /// the homogenised stiffness of perforated material (mechanics.stiffness = Homogenised).
+/// Under the isotropic split (FillStiffnessMap::split()) each membrane and each shape-operator bend
+/// is two elements over the same nodes, its bulk part and its shear part, each with its own fill
+/// factor: the first blocks of membranes and bends then hold the bulk parts, and the shear parts
+/// follow the clamp hinges (membranes, then bends). Hinges and clamp hinges are never split.
 ///
 /// Supports. A pinned vertex is fixed in space: its three DOFs are eliminated (the assembled system
 /// is the reduced one over the free vertices); a pinned edge is a simple support (moment-free: a
@@ -80,10 +84,12 @@ struct ShellBend {
 
 enum class ElementKind { Membrane, Bend, Hinge, Clamp };
 
-/// An element of the model: its kind and its index among the elements of that kind.
+/// An element of the model: its kind, its index among the elements of that kind, and the part of
+/// it that the element is (the whole, or its bulk or shear part under the isotropic split).
 struct ElementRef {
   ElementKind kind;
   int index;
+  FillPart part = FillPart::Whole;
 };
 
 /// Per-element energies at unit fill ratio (J), indexed like the model's elements: A Ψ per membrane,
@@ -110,8 +116,21 @@ class ShellModel {
   const MechanicsSettings& mechanics() const { return m_mechanics; }
   /// How membrane and bending stiffness follow a face's fill ratio (mechanics.stiffness).
   const FillStiffnessMap& fill_stiffness() const { return m_fill_stiffness; }
-  /// Ĉ of shape_operator_energy.h for the material's ν.
-  const Eigen::Matrix3d& bending_constitutive() const { return m_bending_constitutive; }
+  /// Ĉ of shape_operator_energy.h for the material's ν, or its bulk or shear part:
+  /// ((1 + ν)/2) [1 1 0; 1 1 0; 0 0 0] and (1 − ν) [½ −½ 0; −½ ½ 0; 0 0 2], which add up to Ĉ.
+  const Eigen::Matrix3d& bending_constitutive(FillPart part = FillPart::Whole) const {
+    return m_bending_constitutive[int(part)];
+  }
+  /// The membrane's (μ, λ) (N/m) of ShellStiffness, or of its bulk part (0, μ + λ): ((μ + λ)/2) tr(E)²,
+  /// or its shear part (μ, −μ): μ |dev E|².
+  std::array<double, 2> membrane_lame(FillPart part = FillPart::Whole) const {
+    switch (part) {
+      case FillPart::Bulk: return {0.0, m_stiffness.mu + m_stiffness.lambda};
+      case FillPart::Shear: return {m_stiffness.mu, -m_stiffness.mu};
+      case FillPart::Whole: break;
+    }
+    return {m_stiffness.mu, m_stiffness.lambda};
+  }
   const LoadCase& load_case() const { return m_load_case; }
 
   int num_vertices() const { return m_mesh->num_vertices(); }
@@ -136,15 +155,22 @@ class ShellModel {
   const std::vector<ShellHinge>& hinges() const { return m_hinges; }
   const std::vector<ClampHinge>& clamp_hinges() const { return m_clamps; }
   int num_elements() const {
-    return int(m_membranes.size() + m_bends.size() + m_hinges.size() + m_clamps.size());
+    const std::size_t split = m_fill_stiffness.split() ? m_membranes.size() + m_bends.size() : 0;
+    return int(m_membranes.size() + m_bends.size() + m_hinges.size() + m_clamps.size() + split);
   }
-  /// Kind and index of element e ∈ [0, num_elements()): membranes, bends, hinges, clamp hinges.
+  /// Kind, index and part of element e ∈ [0, num_elements()): membranes, bends, hinges, clamp
+  /// hinges; under the split, the membranes' and the bends' shear parts after them.
   ElementRef element(int e) const {
-    const int nf = int(m_membranes.size()), nb = int(m_bends.size()), nh = int(m_hinges.size());
-    if (e < nf) return {ElementKind::Membrane, e};
-    if (e < nf + nb) return {ElementKind::Bend, e - nf};
+    const int nf = int(m_membranes.size()), nb = int(m_bends.size()), nh = int(m_hinges.size()),
+              nc = int(m_clamps.size());
+    const FillPart first = m_fill_stiffness.split() ? FillPart::Bulk : FillPart::Whole;
+    if (e < nf) return {ElementKind::Membrane, e, first};
+    if (e < nf + nb) return {ElementKind::Bend, e - nf, first};
     if (e < nf + nb + nh) return {ElementKind::Hinge, e - nf - nb};
-    return {ElementKind::Clamp, e - nf - nb - nh};
+    if (e < nf + nb + nh + nc) return {ElementKind::Clamp, e - nf - nb - nh};
+    e -= nf + nb + nh + nc;
+    if (e < nf) return {ElementKind::Membrane, e, FillPart::Shear};
+    return {ElementKind::Bend, e - nf, FillPart::Shear};
   }
 
   /// Pattern, scatter map and colouring of the reduced Hessian (built once).
@@ -174,7 +200,7 @@ class ShellModel {
   ShellStiffness m_stiffness;
   MechanicsSettings m_mechanics;
   FillStiffnessMap m_fill_stiffness;
-  Eigen::Matrix3d m_bending_constitutive;
+  std::array<Eigen::Matrix3d, 3> m_bending_constitutive;  ///< by FillPart
   LoadCase m_load_case;
   std::vector<bool> m_fixed;
   std::vector<int> m_vertex_node;

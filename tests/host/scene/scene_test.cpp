@@ -74,8 +74,11 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   expect_rejected(d, {"/structure/measure", "mean", "peak"});
   // The peak measure's concentration factors come from the homogenised rule's cell problems.
   d["structure"] = {{"measure", "peak"}};
+  d["mechanics"] = {{"stiffness", "linear"}};
   expect_rejected(d, {"/structure/measure", "'peak' needs mechanics.stiffness 'homogenised'"});
   d["mechanics"] = {{"stiffness", "homogenised"}};
+  EXPECT_EQ(parse_scene(d, "test").structure.measure, DensityMeasure::Peak);
+  d.erase("mechanics");  // the default rule is the homogenised one
   EXPECT_EQ(parse_scene(d, "test").structure.measure, DensityMeasure::Peak);
   EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["structure"]["measure"], "peak");
   d = minimal_scene();

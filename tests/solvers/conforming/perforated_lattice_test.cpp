@@ -14,7 +14,9 @@
 // packing of that density has it.
 //
 // CUTWORK_LATTICE_TABLE=1 prints the whole table (every shape, lattice, α, structure and size)
-// instead of the assertions' subset.
+// instead of the assertions' subset; CUTWORK_LATTICE_SHAPE (circle, star), _LATTICE (hex, square),
+// _ALPHA, _STRUCTURE (cantilever, clamped) pick rows, _SIZES the triangle sizes and _PLATE_SCALE
+// a larger plate on the same lattice.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -238,10 +240,10 @@ TEST(PerforatedLattice, CellFilteredComplianceDoesNotDependOnTheTriangleSize) {
 
 // Against the conforming reference (refined to 1% or to two levels within 150k triangles), on a
 // 0.12 m × 0.06 m cantilever at triangles one stencil diameter across: the filtered homogenised rule
-// is closer than the per-face homogenised rule, which is closer than the paper's linear rule. The
-// full table (CUTWORK_LATTICE_TABLE=1, in docs/DESIGN.md) has the rest: none is within the issue's
-// 3%; the homogenised stiffness itself is 4–11% too stiff on hexagonal lattices of circles at
-// α 0.85–0.5 and more on square lattices (it is calibrated on the hexagonal one, isotropic).
+// is closer than the per-face homogenised rule, which is closer than the paper's linear rule, and
+// within the 3%. The full table (CUTWORK_LATTICE_TABLE=1, in docs/DESIGN.md) has the rest:
+// every hexagonal cantilever within 1.4% at 1 d and 2 d; square lattices up to 6% too stiff (the
+// calibration is the hexagonal lattice's); plates clamped all round too soft.
 TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate) {
   LatticeCase c;
   c.width = 0.12;
@@ -259,19 +261,28 @@ TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate
               ref.levels, 100 * ref.error_bar / ref.compliance, linear, per_face, filtered);
   EXPECT_LT(std::abs(filtered - 1), std::abs(per_face - 1));
   EXPECT_LT(std::abs(per_face - 1), std::abs(linear - 1));
+  // The target at 1 d: measured 1.004 with the isotropic split, 0.930 with the scalar g
+  // (which gave the perforated plate the solid's Poisson ratio), 0.791 with the linear rule.
+  EXPECT_NEAR(filtered, 1.0, 0.03);
 }
 
 TEST(PerforatedLattice, Table) {
   if (!std::getenv("CUTWORK_LATTICE_TABLE")) GTEST_SKIP() << "set CUTWORK_LATTICE_TABLE=1 for the whole table";
   const char* only = std::getenv("CUTWORK_LATTICE_SHAPE");
   const char* alphas = std::getenv("CUTWORK_LATTICE_ALPHA");
+  const char* structure = std::getenv("CUTWORK_LATTICE_STRUCTURE");  // "cantilever" or "clamped"
+  const char* lattice = std::getenv("CUTWORK_LATTICE_LATTICE");      // "hex" or "square"
+  // CUTWORK_LATTICE_PLATE_SCALE = k: a k times larger plate on the same lattice (k² as many cells).
+  const double plate = std::getenv("CUTWORK_LATTICE_PLATE_SCALE") ? std::stod(std::getenv("CUTWORK_LATTICE_PLATE_SCALE")) : 1.0;
   for (const char* shape : {"circle", "star"})
     for (bool hex : {true, false})
       for (double alpha : {0.5, 0.67, 0.85})
         for (bool cantilever : {true, false}) {
           if (only && std::string(only) != shape) continue;
           if (alphas && std::abs(std::stod(alphas) - alpha) > 1e-9) continue;
-          const LatticeCase c{shape, hex, alpha, cantilever};
+          if (structure && (std::string(structure) == "cantilever") != cantilever) continue;
+          if (lattice && (std::string(lattice) == "hex") != hex) continue;
+          const LatticeCase c{shape, hex, alpha, cantilever, 0.2 * plate, 0.1 * plate};
           print(c, run_case(c));
         }
 }

@@ -55,7 +55,9 @@ TEST(PeakEnergyDensity, UnitConcentrationAndUnitRatiosGiveTheMeanDensityUnderThe
   const ShellModel& model = *fx.model;
   const RowMatX3d x = fx.perturbed(54);
   const std::vector<double> a{0.3, 0.6, 1.0}, ones(3, 1.0);
-  const ConcentrationMap K(with_concentration({a, ones, ones, {}, {}}, ones, ones));
+  FillStiffnessCurve unit;
+  unit.alpha = a, unit.membrane = ones, unit.bending = ones;
+  const ConcentrationMap K(with_concentration(unit, ones, ones));
   const Eigen::VectorXd W = energy_density(model, x, fx.alpha);
   const Eigen::VectorXd P = peak_energy_density(model, x, fx.alpha, K);
   for (int t = 0; t < W.size(); ++t) EXPECT_NEAR(P[t], W[t], 1e-14 * W.maxCoeff()) << "face " << t;

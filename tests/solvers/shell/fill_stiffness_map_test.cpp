@@ -84,6 +84,46 @@ TEST(FillStiffnessMap, RejectsMalformedCurves) {
   c = test::test_stiffness_curve();
   c.membrane[0] = 0;
   EXPECT_THROW(FillStiffnessMap(homogenised(c)), InputError);
+  // The split comes whole or not at all, each part a curve of its own.
+  c = test::test_stiffness_curve();
+  c.bending_shear.clear();
+  EXPECT_THROW(FillStiffnessMap(homogenised(c)), InputError);
+  c = test::test_stiffness_curve();
+  c.membrane_bulk.back() = 0.95;
+  EXPECT_THROW(FillStiffnessMap(homogenised(c)), InputError);
+  c = test::test_stiffness_curve();
+  c.bending_bulk[1] = -0.1;
+  EXPECT_THROW(FillStiffnessMap(homogenised(c)), InputError);
+}
+
+// The split's four parts interpolate their own samples, with derivatives matching central
+// differences; Whole is the scalar curve.
+TEST(FillStiffnessMap, SplitPartsInterpolateTheirOwnSamples) {
+  const FillStiffnessCurve c = test::test_stiffness_curve();
+  const FillStiffnessMap g(homogenised(c));
+  ASSERT_TRUE(g.split());
+  EXPECT_FALSE(FillStiffnessMap(homogenised(test::test_scalar_stiffness_curve())).split());
+  const std::vector<double>* samples[2][2] = {{&c.membrane_bulk, &c.membrane_shear}, {&c.bending_bulk, &c.bending_shear}};
+  for (bool bending : {false, true})
+    for (FillPart part : {FillPart::Bulk, FillPart::Shear}) {
+      const std::vector<double>& r = *samples[bending][part == FillPart::Shear];
+      for (size_t k = 0; k < c.alpha.size(); ++k) {
+        EXPECT_NEAR(g.part_ratio(bending, part, c.alpha[k]), r[k], 1e-15);
+        EXPECT_NEAR(g.factor(bending, part, c.alpha[k]), c.alpha[k] * r[k], 1e-15);
+      }
+      const double h = 1e-6;
+      for (double a = 0.05; a < 0.999; a += 0.0137) {
+        double d = 0, dr = 0;
+        g.factor(bending, part, a, &d);
+        g.part_ratio(bending, part, a, &dr);
+        EXPECT_NEAR(d, (g.factor(bending, part, a + h) - g.factor(bending, part, a - h)) / (2 * h), 1e-6);
+        EXPECT_NEAR(dr, (g.part_ratio(bending, part, a + h) - g.part_ratio(bending, part, a - h)) / (2 * h), 1e-6);
+      }
+    }
+  for (double a : {0.2, 0.5, 0.93}) {
+    EXPECT_EQ(g.factor(false, FillPart::Whole, a), g.membrane(a));
+    EXPECT_EQ(g.factor(true, FillPart::Whole, a), g.bending(a));
+  }
 }
 
 }  // namespace

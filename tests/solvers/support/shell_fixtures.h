@@ -23,13 +23,24 @@ inline Material pa12() {
 /// A shallow cap (0.5 m × 0.4 m, 5 cm rise) of PA12, clamped on x = 0, pinned at the opposite
 /// corners, under an oblique pressure and self-weight, with random fill ratios in [0.2, 1].
 /// A homogenised fill stiffness curve of the shape calibrations give (circles, ν = 0.4), fixed here
-/// so that derivative tests do not depend on a calibration run.
+/// so that derivative tests do not depend on a calibration run: the scalar ratios only.
+inline FillStiffnessCurve test_scalar_stiffness_curve() {
+  FillStiffnessCurve c;
+  c.alpha = {0.3, 0.45, 0.6, 0.75, 0.9, 1.0};
+  c.membrane = {0.30, 0.41, 0.55, 0.70, 0.86, 1.0};
+  c.bending = {0.42, 0.52, 0.63, 0.76, 0.90, 1.0};
+  return c;
+}
+
+/// The same with the isotropic split (bulk and shear ratios near a calibration's: a perforation
+/// softens the bending bulk modulus much more than the shear one), as calibrations return it.
 inline FillStiffnessCurve test_stiffness_curve() {
-  return {{0.3, 0.45, 0.6, 0.75, 0.9, 1.0},
-          {0.30, 0.41, 0.55, 0.70, 0.86, 1.0},
-          {0.42, 0.52, 0.63, 0.76, 0.90, 1.0},
-          {},
-          {}};
+  FillStiffnessCurve c = test_scalar_stiffness_curve();
+  c.membrane_bulk = {0.31, 0.42, 0.54, 0.68, 0.85, 1.0};
+  c.membrane_shear = {0.29, 0.40, 0.56, 0.71, 0.87, 1.0};
+  c.bending_bulk = {0.33, 0.41, 0.50, 0.62, 0.78, 1.0};
+  c.bending_shear = {0.80, 0.86, 0.91, 0.94, 0.97, 1.0};
+  return c;
 }
 
 struct CapFixture {
