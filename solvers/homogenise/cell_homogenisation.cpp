@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/cut/cut_surface.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
@@ -28,6 +29,10 @@ const double kSqrt3 = std::numbers::sqrt3;
 const double kCellArea = 0.5 * kSqrt3;
 /// Number of macroscopic load cases: three membrane strains, three curvatures.
 constexpr int kCases = 6;
+/// Radius of the rhombus's inscribed circle (spacing 1): a hole within it stays inside the cell.
+const double kInscribedRadius = 0.25 * kSqrt3;
+/// Triangles across the narrowest ligament, at least (homogenise_cell raises the resolution).
+constexpr double kLigamentElements = 6;
 
 Eigen::Matrix3d isotropic_voigt(double factor, double nu) {
   Eigen::Matrix3d C;
@@ -60,30 +65,83 @@ Eigen::Vector2d lattice_coordinates(const Vec3& X) {
 /// The period cell: the rhombus spanned by a₁, a₂, meshed by the regular triangular grid of spacing
 /// 1/n, with the stencil cut out at its centre and the result remeshed at 1/n (outlines and the
 /// rhombus's sides kept: opposite sides still carry translated copies of each other's vertices).
-SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int remesh_iterations) {
-  RowMatX3d V((n + 1) * (n + 1), 3);
-  RowMatX3i F(2 * n * n, 3);
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) V.row(j * (n + 1) + i) = ((double(i) / n) * kA1 + (double(j) / n) * kA2).transpose();
-  for (int j = 0, f = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int v = j * (n + 1) + i;
-      F.row(f++) << v, v + 1, v + n + 1;
-      F.row(f++) << v + 1, v + n + 2, v + n + 1;
+/// A regular triangular grid of the lattice parallelogram [i0, i1] a₁ + [j0, j1] a₂ (in spacings),
+/// n triangles pairs per spacing; face (i, j, 0/1) of the square (i, j) at 2 ((j − j0) w + (i − i0)) + 0/1,
+/// w = n (i1 − i0).
+SurfaceMesh lattice_grid(int n, int i0, int i1, int j0, int j1) {
+  const int w = n * (i1 - i0), h = n * (j1 - j0);
+  RowMatX3d V((w + 1) * (h + 1), 3);
+  RowMatX3i F(2 * w * h, 3);
+  for (int j = 0; j <= h; ++j)
+    for (int i = 0; i <= w; ++i)
+      V.row(j * (w + 1) + i) = (double(i + n * i0) / n * kA1 + double(j + n * j0) / n * kA2).transpose();
+  for (int j = 0, f = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const int v = j * (w + 1) + i;
+      F.row(f++) << v, v + 1, v + w + 1;
+      F.row(f++) << v + 1, v + w + 2, v + w + 1;
     }
-  SurfaceMesh grid(V, F, "homogenisation cell");
+  return SurfaceMesh(V, F, "homogenisation cell");
+}
+
+SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int remesh_iterations) {
+  SurfaceMesh grid = lattice_grid(n, 0, 1, 0, 1);
   if (scale <= 0) return grid;
-  StencilParams p;
-  p.position = 0.5 * (kA1 + kA2);
-  p.scale = scale;
   StencilLibrary library;
   library.add(shape);
-  const FaceBvh bvh(grid);
-  const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), std::span(&p, 1));
   RemeshOptions ro;
   ro.target_edge_length = 1.0 / n;
   ro.iterations = remesh_iterations;
-  RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
+  StencilParams centre;
+  centre.position = 0.5 * (kA1 + kA2);
+  centre.scale = scale;
+  if (scale <= kInscribedRadius) {
+    // The hole inside the rhombus.
+    const FaceBvh bvh(grid);
+    const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), std::span(&centre, 1));
+    RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
+    return SurfaceMesh(std::move(r.vertices), std::move(r.faces), "homogenisation cell");
+  }
+  // A hole larger than the rhombus's inscribed circle crosses its sides, and its parts outside come
+  // back in through the opposite sides: the 3 × 3 block of cells is cut by the nine holes and the
+  // centre cell's pieces kept (each piece lies in one grid triangle, so the sides stay edges).
+  const SurfaceMesh block = lattice_grid(n, -1, 2, -1, 2);
+  std::vector<StencilParams> holes;
+  for (int m = -1; m <= 1; ++m)
+    for (int k = -1; k <= 1; ++k) {
+      StencilParams p = centre;
+      p.position += m * kA1 + k * kA2;
+      holes.push_back(p);
+    }
+  const FaceBvh bvh(block);
+  const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), holes);
+  const int w = 3 * n;
+  std::vector<int> index(size_t(cut.vertices.rows()), -1);
+  std::vector<Vec3> vertices;
+  std::vector<Eigen::Vector3i> faces;
+  for (Eigen::Index f = 0; f < cut.faces.rows(); ++f) {
+    const int source = cut.source_face[f] / 2, i = source % w, j = source / w;
+    if (i < n || i >= 2 * n || j < n || j >= 2 * n) continue;
+    Eigen::Vector3i face;
+    for (int k = 0; k < 3; ++k) {
+      int& v = index[size_t(cut.faces(f, k))];
+      if (v < 0) {
+        v = int(vertices.size());
+        vertices.push_back(cut.vertices.row(cut.faces(f, k)).transpose());
+      }
+      face[k] = v;
+    }
+    faces.push_back(face);
+  }
+  RowMatX3d V(Eigen::Index(vertices.size()), 3);
+  RowMatX3i F(Eigen::Index(faces.size()), 3);
+  for (size_t v = 0; v < vertices.size(); ++v) V.row(Eigen::Index(v)) = vertices[v].transpose();
+  for (size_t f = 0; f < faces.size(); ++f) F.row(Eigen::Index(f)) = faces[f].transpose();
+  // No short boundary edge is collapsed: a collapse picks an end by the faces around it, which
+  // differ on opposite sides, and the sides must stay translated copies of each other (tile_cell
+  // checks it).
+  ro.min_boundary_edge = 0;
+  RemeshedMesh r = remesh_isotropic(V, F, ro);
   return SurfaceMesh(std::move(r.vertices), std::move(r.faces), "homogenisation cell");
 }
 
@@ -127,6 +185,20 @@ SurfaceMesh tile_cell(const SurfaceMesh& cell, std::vector<int>& period, int& ce
                            local[size_t(cell.faces()(f, 2))]);
     }
   classes = int(class_index.size());
+  // Opposite sides must carry translated copies of each other's vertices, or the copies would not
+  // weld and the periodic problem would have cracks along the sides.
+  std::map<std::pair<long long, long long>, int> side_count;
+  for (const Eigen::Vector2d& c : st)
+    for (int k = 0; k < 2; ++k)
+      if (c[k] == 0 || c[k] == 1) {
+        const double along = c[1 - k];
+        ++side_count[{k, std::llround(along * 1e8)}];
+      }
+  for (const auto& [side, count] : side_count)
+    if (count != 2)
+      throw InternalError(fmt::format("homogenisation cell: the sides are not periodic (a vertex at {:.6f} along "
+                                      "side {} has no partner on the opposite side)",
+                                      double(side.second) * 1e-8, side.first));
   RowMatX3d V(Eigen::Index(positions.size()), 3);
   RowMatX3i F(Eigen::Index(faces.size()), 3);
   for (size_t v = 0; v < positions.size(); ++v) V.row(Eigen::Index(v)) = positions[v].transpose();
@@ -312,7 +384,9 @@ Eigen::Vector2d isotropic_moduli(const Eigen::Matrix3d& C) {
 }
 
 double max_hole_fraction(const StencilShape& shape, double ligament) {
-  const double s = 0.25 * kSqrt3 * (1 - ligament);  // inside the rhombus's inscribed circle
+  // The hole's bounding circle inside the hexagonal (Voronoi) cell's inscribed circle, radius ½:
+  // where a packing's bounding circles touch.
+  const double s = 0.5 * (1 - ligament);
   return std::min(1.0, shape.area * s * s / kCellArea);
 }
 
@@ -328,7 +402,13 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   CellStiffness out;
   out.fill_ratio = fill_ratio;
   out.scale = std::sqrt((1 - fill_ratio) * kCellArea / shape.area);
-  const SurfaceMesh cell = period_cell(shape, out.scale, int(std::lround(options.resolution)), options.remesh_iterations);
+  // The narrowest ligament (between neighbouring bounding circles, 1 − 2s spacings) gets at least
+  // kLigamentElements triangles across: the bending factor and its peak are otherwise too coarse
+  // where holes nearly touch (circles at α = 0.30: g_b 0.173 and K_b 22 at 24 edges per spacing,
+  // 0.200 and 7.9 at 48, with g_b and K_b smooth and monotone in α at 48 and jumping at 24).
+  const double resolution = std::min(200.0, std::max(options.resolution, kLigamentElements / (1 - 2 * out.scale)));
+  out.resolution = resolution;
+  const SurfaceMesh cell = period_cell(shape, out.scale, int(std::lround(resolution)), options.remesh_iterations);
   out.vertices = cell.num_vertices();
   out.faces = cell.num_faces();
   out.window_fill_ratio = cell.face_areas().sum() / kCellArea;
@@ -375,7 +455,7 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   const Eigen::Vector2d b = isotropic_moduli(out.bending), b0 = isotropic_moduli(solid_bending_stiffness(material));
   out.membrane_bulk_factor = m[0] / m0[0], out.membrane_shear_factor = m[1] / m0[1];
   out.bending_bulk_factor = b[0] / b0[0], out.bending_shear_factor = b[1] / b0[1];
-  stress_concentration(cell, tiled, period, centre, elements, fluctuation, material, 0.5 / options.resolution, out);
+  stress_concentration(cell, tiled, period, centre, elements, fluctuation, material, 0.5 / resolution, out);
   return out;
 }
 

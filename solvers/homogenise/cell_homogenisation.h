@@ -10,7 +10,9 @@
 /// spanned by a₁, a₂ with the stencil at its centre: a regular triangular grid of spacing
 /// 1/`resolution`, cut along the outline (host/cut) and remeshed (host/mesh/isotropic_remesh; the
 /// outline and the rhombus's sides are kept, so opposite sides carry translated copies of each
-/// other's vertices). The cell is tiled 3 × 3 so that every face of the centre copy has its whole
+/// other's vertices). A hole larger than the rhombus's inscribed circle (radius √3/4) crosses its
+/// sides: then the 3 × 3 block of cells is cut by the nine copies of the hole and the centre cell's
+/// pieces kept, so that what leaves through one side comes back through the opposite one. The cell is tiled 3 × 3 so that every face of the centre copy has its whole
 /// shape-operator patch, and the displacement of each node is u = ū(X) + ũ(class): the macroscopic
 /// field at the node's true position — in-plane u = ε̄ · X for the three membrane strains
 /// ε̄ = (ε_xx, ε_yy, γ_xy), out of plane w = ½ Xᵀ κ̄ X for the three curvatures κ̄ = (κ_xx, κ_yy,
@@ -18,9 +20,11 @@
 /// Minimising the energy of the centre copy's elements (the Hessians of the membrane and
 /// shape-operator elements at rest: stretching and bending decouple on a flat sheet) over ũ is the
 /// periodic cell problem; C*_ij = (1/A_cell) Σ_e u_iᵀ K_e u_j. A solid cell returns the closed forms
-/// to round-off (both elements are exact for these fields). The hole must stay inside the rhombus
-/// (its bounding circle inside the inscribed circle of radius √3/4), which bounds the fill ratios a
-/// shape reaches: α ≥ 0.40 for a circle.
+/// to round-off (both elements are exact for these fields). The hole's bounding circle must stay
+/// inside the hexagonal (Voronoi) cell's inscribed circle of radius ½ — where a packing's bounding
+/// circles touch — less a 10% ligament (a tenth of a spacing between neighbouring bounding circles,
+/// meshed six triangles across), which bounds the fill ratios a shape reaches: α ≥ 0.27 for a
+/// circle, 0.66 for the built-in star (0.40 and 0.71 while the hole had to stay inside the rhombus).
 
 /// Scalar ratios. g = tr(C* C⁻¹)/3, C the solid's stiffness in the same (Voigt) notation: the mean
 /// of the effective-to-solid ratio over the three modes, exact (= the factor) for an isotropic C*,
@@ -40,7 +44,10 @@
 namespace cutwork::solvers {
 
 struct CellOptions {
-  double resolution = 24;  ///< target edges per lattice spacing a, in [6, 200]
+  /// Target edges per lattice spacing a, in [6, 200]; raised (up to 200) where the narrowest
+  /// ligament, 1 − 2s spacings between neighbouring bounding circles, would get fewer than six
+  /// triangles across.
+  double resolution = 24;
   int remesh_iterations = 5;
 };
 
@@ -80,15 +87,16 @@ struct CellStiffness {
   double membrane_bulk_factor = 0, membrane_shear_factor = 0;
   double bending_bulk_factor = 0, bending_shear_factor = 0;
   int vertices = 0, faces = 0;       ///< of the patch mesh
+  double resolution = 0;             ///< edges per spacing the cell was meshed at (CellOptions)
   /// Stress concentration (see concentration_states): K = peak W / mean W over the cell's material,
   /// max over the membrane states and over the bending states (1 for a solid cell).
   double membrane_concentration = 1, bending_concentration = 1;
   std::vector<ConcentrationState> membrane_states, bending_states;
 };
 
-/// The largest hole fraction 1 − α at which `shape` still fits the period cell: its bounding circle
-/// within (1 − ligament) of the rhombus's inscribed circle.
-double max_hole_fraction(const StencilShape& shape, double ligament = 0.05);
+/// The largest hole fraction 1 − α at which `shape` still fits the lattice: its bounding circle
+/// within (1 − ligament) of the hexagonal cell's inscribed circle (radius ½ spacing).
+double max_hole_fraction(const StencilShape& shape, double ligament = 0.1);
 
 /// Homogenised stiffness of `shape` perforating a sheet of `material` down to fill ratio α ∈
 /// [1 − max_hole_fraction, 1]. Throws InputError for α outside that range or bad options.
