@@ -166,7 +166,12 @@ CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, cons
     diameter[t] = 2 * ctx.unit() * sigma;
     spacing[t] = (1 + scene.pattern.s) * diameter[t];
   }
-  return CellFilter(sim, spacing, diameter);
+  // Faces at a clamp keep their own α (cell_filter.h).
+  const LoadCase load_case = resolve_load_case(scene, sim);
+  std::vector<bool> at_clamp(size_t(nf), false);
+  for (int t = 0; t < nf; ++t)
+    for (int k = 0; k < 3; ++k) at_clamp[size_t(t)] = at_clamp[size_t(t)] || load_case.clamped[size_t(F(t, k))];
+  return CellFilter(sim, spacing, diameter, &at_clamp);
 }
 
 }  // namespace cutwork::solvers

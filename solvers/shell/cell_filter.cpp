@@ -18,11 +18,12 @@ double cell_filter_blend(double edge_over_diameter) {
   return t * t * (3 - 2 * t);
 }
 
-CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, const Eigen::VectorXd& diameter) {
+CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, const Eigen::VectorXd& diameter,
+                       const std::vector<bool>* keep_own) {
   const int nf = mesh.num_faces();
-  if (spacing.size() != nf || diameter.size() != nf)
-    throw InputError(fmt::format("cell filter: {} spacings and {} diameters for {} faces", spacing.size(),
-                                 diameter.size(), nf));
+  if (spacing.size() != nf || diameter.size() != nf || (keep_own && int(keep_own->size()) != nf))
+    throw InputError(fmt::format("cell filter: {} spacings, {} diameters and {} marks for {} faces", spacing.size(),
+                                 diameter.size(), keep_own ? keep_own->size() : size_t(nf), nf));
   for (int t = 0; t < nf; ++t)
     if (!(std::isfinite(spacing[t]) && spacing[t] > 0 && std::isfinite(diameter[t]) && diameter[t] > 0))
       throw InputError(fmt::format("cell filter: face {}: spacing {} and diameter {} must be finite and positive", t,
@@ -46,7 +47,7 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
     std::vector<char>& seen = marks.local();
     for (int t = range.begin(); t != range.end(); ++t) {
       const double h = std::sqrt(4 * area[t] / std::sqrt(3.0));
-      const double b = cell_filter_blend(h / diameter[t]);
+      const double b = keep_own && (*keep_own)[size_t(t)] ? 0.0 : cell_filter_blend(h / diameter[t]);
       m_blend[t] = b;
       auto& row = rows[size_t(t)];
       if (b == 0) {

@@ -63,6 +63,41 @@ TEST(CellFilter, BlendKeepsResolvedFacesAndAveragesLargeOnes) {
   EXPECT_EQ(resolved.blend().maxCoeff(), 0.0);
 }
 
+// Faces marked to keep their own α (scene_cell_filter marks those at a clamp) are rows of the
+// identity with blend 0; the other rows are those of the unmarked filter.
+TEST(CellFilter, MarkedFacesKeepTheirOwnFillRatio) {
+  const SurfaceMesh mesh = test::equilateral_rectangle(1.0, 0.5, 20);
+  const double h = 0.05;
+  std::vector<bool> marked(size_t(mesh.num_faces()), false);
+  for (int t = 0; t < mesh.num_faces(); ++t) {
+    const double x = (mesh.vertices().row(mesh.faces()(t, 0)) + mesh.vertices().row(mesh.faces()(t, 1)) +
+                      mesh.vertices().row(mesh.faces()(t, 2)))(0) / 3;
+    marked[size_t(t)] = x < 0.1;
+  }
+  const CellFilter plain(mesh, constant(mesh, 3 * h), constant(mesh, 2 * h));
+  const CellFilter kept(mesh, constant(mesh, 3 * h), constant(mesh, 2 * h), &marked);
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(0.01, 1.0);
+  Eigen::VectorXd alpha(mesh.num_faces());
+  for (int t = 0; t < mesh.num_faces(); ++t) alpha[t] = u(gen);
+  const Eigen::VectorXd a = plain.apply(alpha), b = kept.apply(alpha);
+  int n_marked = 0, n_filtered = 0;
+  for (int t = 0; t < mesh.num_faces(); ++t) {
+    if (marked[size_t(t)]) {
+      ++n_marked;
+      EXPECT_EQ(b[t], alpha[t]) << "face " << t;
+      EXPECT_EQ(kept.blend()[t], 0.0);
+      n_filtered += a[t] != alpha[t];
+    } else {
+      EXPECT_EQ(b[t], a[t]) << "face " << t;
+    }
+  }
+  EXPECT_GT(n_marked, 10);
+  EXPECT_EQ(n_filtered, n_marked);  // without the marks those faces were averaged
+  const std::vector<bool> wrong(3, false);
+  EXPECT_THROW(CellFilter(mesh, constant(mesh, 3 * h), constant(mesh, 2 * h), &wrong), InputError);
+}
+
 TEST(CellFilter, AnAlternatingPerforationIsAveragedToItsMean) {
   // Faces alternately nearly empty and full (what 1-stencil-per-face coverage looks like), on
   // triangles as large as the stencils: away from the border the filtered field is the mean 0.55
