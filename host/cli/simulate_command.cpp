@@ -172,7 +172,7 @@ void run_simulate(const SimulateOptions& opts) {
           if (!surface.context()) return Eigen::VectorXd(Eigen::VectorXd::Ones(m.num_faces()));
           return solvers::design_fill_ratios(scene, *surface.context(), m, stencils, fill_options);
         },
-        model.mechanics(), summary, solvers::simulation_edge_length(scene, meshes), model.num_faces());
+        model.mechanics(), summary, solvers::simulation_edge_length(scene, meshes), meshes.sim);
     timings.add("discretisation", sw.seconds());
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
   }

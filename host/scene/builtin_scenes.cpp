@@ -69,9 +69,9 @@ const std::vector<Entry>& entries() {
 })json"},
       {{"chair", "Fig. 6: monocoque cantilever chair fixed on its runner, loaded on seat and back rest"},
        nullptr, R"json({
-  "mesh": {"generator": "chair", "edge_length": 0.022, "sim_edge_length": 0.043},
+  "mesh": {"generator": "chair", "edge_length": 0.022, "sim_edge_length": 0.03},
   )json" CUTWORK_PLYWOOD R"json(,
-  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.001}}}],
+  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "area", "force": [0, 0, -4000], "select": {"entity": "faces", "x": {"above": 0.05, "below": 0.4}, "z": {"above": 0.4, "below": 0.5}}},
             {"type": "area", "force": [-800, 0, 0], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "star", "kind": "star"}, {"name": "circle", "kind": "circle"}],
@@ -82,7 +82,7 @@ const std::vector<Entry>& entries() {
        nullptr, R"json({
   "mesh": {"generator": "pavilion", "edge_length": 0.22, "sim_edge_length": 0.35},
   "material": {"youngs_modulus": 2e10, "poisson_ratio": 0.2, "thickness": 0.03, "density": 2000},
-  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.01}}}],
+  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "self_weight", "gravity": [0, 0, -9.81]}],
   "stencils": [{"name": "flower", "kind": "flower"}],
   "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1, "count": 310},

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/core/work_limits.h"
 #include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
@@ -832,6 +833,51 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
     lc.forces += forces;
   }
   return lc;
+}
+
+SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed) {
+  if (int(fixed.size()) != mesh.num_vertices()) throw InternalError("support_extent: one flag per vertex expected");
+  SupportExtent e;
+  std::vector<bool> face_fixed(std::size_t(mesh.num_faces()), false);
+  // A face is part of an area support when its three vertices are fixed and one of them is inside
+  // the mesh: a face with all three on the boundary and fixed is a line support turning a corner.
+  const std::vector<bool>& boundary = mesh.is_boundary_vertex();
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    bool all = true, inner = false;
+    for (int c = 0; c < 3; ++c) {
+      const auto v = std::size_t(mesh.faces()(f, c));
+      all = all && fixed[v];
+      inner = inner || !boundary[v];
+    }
+    face_fixed[std::size_t(f)] = all && inner;
+    if (face_fixed[std::size_t(f)]) e.area += mesh.face_areas()[f];
+  }
+  std::vector<bool> on_edge(fixed.size(), false);
+  for (int k = 0; k < mesh.num_edges(); ++k) {
+    const int a = mesh.edges()(k, 0), b = mesh.edges()(k, 1);
+    if (!fixed[std::size_t(a)] || !fixed[std::size_t(b)]) continue;
+    on_edge[std::size_t(a)] = on_edge[std::size_t(b)] = true;
+    // An edge on the mesh's boundary is a line; an interior edge is one when neither of its faces
+    // is in an area support (else it is inside one or on its outline, which the area measures) and
+    // it is no chord between two boundary vertices (a line support turning a corner fixes the
+    // corner triangle's third edge too).
+    const int f0 = mesh.edge_faces()(k, 0), f1 = mesh.edge_faces()(k, 1);
+    const bool chord = boundary[std::size_t(a)] && boundary[std::size_t(b)];
+    const bool line = f1 < 0 || (!chord && !face_fixed[std::size_t(f0)] && !face_fixed[std::size_t(f1)]);
+    if (line) e.length += (mesh.vertices().row(a) - mesh.vertices().row(b)).norm();
+  }
+  for (std::size_t v = 0; v < fixed.size(); ++v)
+    if (fixed[v] && !on_edge[v]) ++e.points;
+  return e;
+}
+
+double support_extent_change(const SupportExtent& a, const SupportExtent& b, double edge_length) {
+  auto change = [](double x, double y, double scale) {
+    const double m = std::max({std::abs(x), std::abs(y), scale});
+    return m > 0 ? std::abs(x - y) / m : 0.0;
+  };
+  return std::max({change(a.area, b.area, edge_length * std::max(a.length, b.length)), change(a.length, b.length, 0),
+                   change(a.points, b.points, 0)});
 }
 
 }  // namespace cutwork

@@ -199,6 +199,29 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh,
                            const std::vector<bool>* outer_boundary = nullptr,
                            const LoadCase* match_totals = nullptr);
 
+/// How much of a mesh a set of fixed vertices holds, as measures that converge under refinement
+/// when the supports select a fixed physical region:
+///  - area: the faces whose three vertices are fixed, one of them inside the mesh (an area
+///    support; a face with all three on the boundary is a line support turning a corner);
+///  - length: the edges with both ends fixed that are on the mesh's boundary, or inside it with
+///    neither face in the area and not a chord between two boundary vertices (a line support, and
+///    the part of an area support's outline on the boundary);
+///  - points: the fixed vertices on no fixed edge (point supports).
+/// Comparing it between meshes of one surface shows a selection that depends on the mesh — a box
+/// that catches a surface rising tangentially out of it (feet on z = 0 selected by "z below 0.01"
+/// fix a longer strip of a finer mesh), or one that cuts a support line between vertices.
+struct SupportExtent {
+  double area = 0;    ///< m²
+  double length = 0;  ///< m
+  int points = 0;
+};
+SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed);
+
+/// The largest relative difference between two extents' area, length and point count (each
+/// |a − b| / max(a, b), 0 where both are 0). Areas are compared against at least
+/// edge_length × length, the area a line support's outline can differ by between meshes.
+double support_extent_change(const SupportExtent& a, const SupportExtent& b, double edge_length);
+
 /// Indices of the entities `sel` selects on `mesh` (vertex, edge or face indices by entity).
 /// Boundary entities are restricted to `outer_boundary` when given (see resolve_load_case; a
 /// boundary edge counts when both its vertices are in it).

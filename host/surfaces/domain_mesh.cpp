@@ -127,6 +127,39 @@ RectangleLattice plan_rectangle(double width, double height, double h) {
   return plan;
 }
 
+RectangleLattice plan_rows(double width, const std::vector<double>& breaks, double h,
+                           const std::function<double(double, double)>& max_row_spacing) {
+  RectangleLattice plan = plan_rectangle(width, breaks.back(), h);
+  const double target = kSqrt3Over2 * plan.spacing;
+  std::vector<double> kept{0.0};
+  for (std::size_t k = 1; k < breaks.size(); ++k) {
+    if (k + 1 == breaks.size()) {
+      if (breaks[k] - kept.back() < 0.5 * target && kept.size() > 1) kept.pop_back();
+      kept.push_back(breaks[k]);
+    } else if (breaks[k] - kept.back() >= 0.5 * target) {
+      kept.push_back(breaks[k]);
+    }
+  }
+  plan.row_positions = {0.0};
+  plan.row_spacing = 0;
+  for (std::size_t k = 1; k < kept.size(); ++k) {
+    const double length = kept[k] - kept[k - 1];
+    // As many rows as keep the spacing ≤ target (angles ≥ 30° at the sides), more where
+    // max_row_spacing asks, but never closer than 0.3 spacing (the base angles of the isosceles
+    // triangles stay ≥ atan 0.6 = 31°).
+    double n = std::max(1.0, std::ceil(length / target - 1e-9));
+    if (max_row_spacing) {
+      const double wanted = std::ceil(length / max_row_spacing(kept[k - 1], kept[k]) - 1e-9);
+      n = std::max(n, std::min(wanted, std::floor(length / (0.3 * plan.spacing))));
+    }
+    for (int i = 1; i < int(n); ++i) plan.row_positions.push_back(kept[k - 1] + length * i / n);
+    plan.row_positions.push_back(kept[k]);
+    plan.row_spacing = std::max(plan.row_spacing, length / n);
+  }
+  plan.rows = double(plan.row_positions.size() - 1);
+  return plan;
+}
+
 DomainMesh mesh_rectangle(double width, double height, const RectangleLattice& plan) {
   const int columns = int(plan.columns);
   const int rows = int(plan.rows);
@@ -143,7 +176,9 @@ DomainMesh mesh_rectangle(double width, double height, const RectangleLattice& p
   };
   for (int j = 0; j <= rows; ++j) {
     // The last row sits exactly on v = height (no accumulated rounding).
-    const double v = j == rows ? height : j * plan.row_spacing;
+    const double v = j == rows ? height
+                     : plan.row_positions.empty() ? j * plan.row_spacing
+                                                  : plan.row_positions[std::size_t(j)];
     if (j % 2 == 0) {
       for (int i = 0; i <= columns; ++i) add(j, i == columns ? width : i * plan.spacing, v);
     } else {

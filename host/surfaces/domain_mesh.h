@@ -26,7 +26,10 @@ struct RectangleLattice {
   double columns = 0;      ///< integral value, kept as double so huge requests cannot overflow
   double rows = 0;         ///< integral value
   double spacing = 0;      ///< metres along u
-  double row_spacing = 0;  ///< metres along v
+  double row_spacing = 0;  ///< metres along v (the largest, when row_positions are given)
+  /// Optional (rows + 1 values, 0 first, the height last, increasing): where the rows are, when
+  /// they are not evenly spaced (plan_rows).
+  std::vector<double> row_positions;
   /// Exact counts of the mesh mesh_rectangle() builds from this layout.
   double num_faces() const { return rows * (2 * columns + 1); }
   double num_vertices() const;
@@ -36,8 +39,20 @@ struct RectangleLattice {
 /// Pre: width, height, h finite and positive.
 RectangleLattice plan_rectangle(double width, double height, double h);
 
+/// The lattice of plan_rectangle(width, breaks.back(), h), but with a row on every break (the
+/// first 0, the last the height, increasing): each stretch between breaks gets its own rows, as
+/// many as keep their spacing ≤ (√3/2)·spacing, evenly spaced. A stretch shorter than half a row is
+/// joined to the next (the last to the one before), so rows are at least half a row spacing
+/// apart and every angle stays ≥ 30°. Extruded profiles use it so that the rows meet the
+/// profile's corners and the ends of its fillets: a support that ends where a fillet begins (a
+/// chair's runner) is then the same region on every mesh.
+/// `max_row_spacing` (optional), of a stretch's ends: a closer spacing there (never below 0.3 of
+/// the column spacing, so angles stay ≥ 30°), e.g. to resolve a fillet's curvature.
+RectangleLattice plan_rows(double width, const std::vector<double>& breaks, double h,
+                           const std::function<double(double, double)>& max_row_spacing = {});
+
 /// Meshes [0, width] × [0, height] with the lattice `plan`: rows at v = j·row_spacing, even
-/// rows with vertices at u = i·spacing, odd rows shifted by half a spacing plus one vertex on
+/// rows (at plan.row_positions when given) with vertices at u = i·spacing, odd rows shifted by half a spacing plus one vertex on
 /// each side, so that all four sides carry vertices. Consecutive rows are zipped by the
 /// shorter diagonal. Faces are counter-clockwise in (u, v).
 /// Every interior triangle is isosceles (base `spacing`, height `row_spacing`); the triangles at

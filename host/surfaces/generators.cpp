@@ -60,22 +60,37 @@ SurfaceMesh flat_rectangle(double width, double height, double h, const std::str
   return SurfaceMesh(std::move(vertices), domain.faces, what);
 }
 
+/// Row spacing in a stretch of an extruded profile: a fillet gets a row at least every
+/// kFilletRowAngle of its turn, so its curvature — where a monocoque bends most — is resolved
+/// whatever h is.
+constexpr double kFilletRowAngle = kPi / 18;
+std::function<double(double, double)> arc_rows(const RoundedPolyline& profile) {
+  return [&profile](double begin, double end) { return profile.radius_at(0.5 * (begin + end)) * kFilletRowAngle; };
+}
+
 /// The profile (in the x-z plane) extruded along y over [-width/2, width/2], meshed on the
 /// (arc length × y) rectangle. Normal = tangent × ŷ: +z where the profile runs along +x.
 SurfaceMesh extruded_profile(const RoundedPolyline& profile, double width, double h,
                              const std::string& what) {
-  const auto plan = shapes_detail::plan_rectangle(profile.length(), width, h);
-  const DomainMesh domain = shapes_detail::mesh_rectangle(profile.length(), width, plan);
+  // u runs along the extrusion and v along the profile's arc length, with a row of vertices on
+  // every corner and fillet end of the profile (plan_rows): a region that ends there (a foot on
+  // the floor up to where its fillet rises) is the same region on every mesh.
+  const auto plan = shapes_detail::plan_rows(width, profile.breaks(), h, arc_rows(profile));
+  const DomainMesh domain = shapes_detail::mesh_rectangle(width, profile.length(), plan);
   RowMatX3d vertices(domain.uv.rows(), 3);
   for (Eigen::Index i = 0; i < domain.uv.rows(); ++i) {
-    const Vec2 p = profile.point(domain.uv(i, 0));
-    vertices.row(i) << p.x(), domain.uv(i, 1) - 0.5 * width, p.y();
+    const Vec2 p = profile.point(domain.uv(i, 1));
+    vertices.row(i) << p.x(), domain.uv(i, 0) - 0.5 * width, p.y();
   }
-  return SurfaceMesh(std::move(vertices), domain.faces, what);
+  // (u, v) ↦ (y, arc length) reverses the orientation of (arc length, y): swap to keep the
+  // normals on the profile's left.
+  RowMatX3i faces = domain.faces;
+  faces.col(1).swap(faces.col(2));
+  return SurfaceMesh(std::move(vertices), std::move(faces), what);
 }
 
 double extruded_num_faces(const RoundedPolyline& profile, double width, double h) {
-  return shapes_detail::plan_rectangle(profile.length(), width, h).num_faces();
+  return shapes_detail::plan_rows(width, profile.breaks(), h, arc_rows(profile)).num_faces();
 }
 
 /// Ring count of a hex disk whose near-equilateral triangles of edge h cover `area`.
@@ -329,7 +344,9 @@ Definition pavilion_definition() {
   d.info = {"pavilion",
             "doubly curved vault over a disk standing on 'legs' feet: crown of 'height' at the "
             "centre, rim arches of 'arch_height' between feet; each foot is a strip of the rim "
-            "of 'foot_length' on z = 0 (select supports with z below 0.01)",
+            "of 'foot_length' on z = 0, exactly (select supports with z below 1e-6: past a foot's "
+            "end the rim rises out of z = 0 tangentially, so a looser bound fixes a longer strip of a "
+            "finer mesh)",
             {{"radius", 3.0}, {"height", 1.8}, {"arch_height", 1.2}, {"legs", 4},
              {"foot_length", 0.8}},
             0.15,

@@ -98,6 +98,19 @@ Vec2 RoundedPolyline::point(double s) const {
   return p.centre + p.radius * Vec2(std::cos(angle), std::sin(angle));
 }
 
+std::vector<double> RoundedPolyline::breaks() const {
+  std::vector<double> out;
+  for (const Piece& piece : m_pieces) out.push_back(piece.begin);
+  out.push_back(m_length);
+  if (out.front() != 0.0) out.insert(out.begin(), 0.0);
+  return out;
+}
+
+double RoundedPolyline::radius_at(double s) const {
+  const Piece& piece = piece_at(s);
+  return piece.arc ? piece.radius : INFINITY;
+}
+
 Vec2 RoundedPolyline::tangent(double s) const {
   s = std::clamp(s, 0.0, m_length);
   const Piece& p = piece_at(s);

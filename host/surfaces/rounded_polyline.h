@@ -26,6 +26,11 @@ class RoundedPolyline {
   Vec2 point(double s) const;
   /// Unit tangent at arc length s (direction of increasing s).
   Vec2 tangent(double s) const;
+  /// Arc lengths where the pieces (straight segments and fillet arcs) meet, with 0 first and
+  /// length() last: where the curvature jumps.
+  std::vector<double> breaks() const;
+  /// Radius of curvature at arc length s: the fillet's radius on an arc, infinity on a segment.
+  double radius_at(double s) const;
 
  private:
   struct Piece {

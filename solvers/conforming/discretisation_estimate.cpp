@@ -1,5 +1,6 @@
 #include "solvers/conforming/discretisation_estimate.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -13,6 +14,10 @@ namespace cutwork::solvers {
 
 namespace {
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json extent_json(const SupportExtent& x) {
+  return {{"area", x.area}, {"length", x.length}, {"points", x.points}};
+}
 
 double relative_change(double coarse, double fine) {
   return fine != 0 ? std::abs(coarse - fine) / std::abs(fine) : (coarse == 0 ? 0.0 : INFINITY);
@@ -57,20 +62,30 @@ std::vector<RefinedSimulationMesh> refine_simulation_mesh(const Scene& scene, co
 DiscretisationEstimate estimate_discretisation(const Scene& scene, const std::vector<RefinedSimulationMesh>& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
-                                               int coarse_faces, const DiscretisationOptions& options) {
+                                               const SurfaceMesh& coarse_mesh, const DiscretisationOptions& options) {
   if (refined.empty()) throw InternalError("estimate_discretisation: no refined mesh");
   DiscretisationEstimate e;
   e.method = refined.front().method;
   e.tolerance = options.tolerance;
-  e.levels.push_back({coarse_edge_length, coarse_faces, coarse});
+  e.support_tolerance = options.support_tolerance;
+  {
+    const LoadCase lc = resolve_load_case(scene, coarse_mesh);
+    e.levels.push_back({coarse_edge_length, coarse_mesh.num_faces(), coarse, support_extent(coarse_mesh, lc.fixed),
+                        support_extent(coarse_mesh, lc.clamped)});
+  }
+  e.support_change = 0;
   for (const RefinedSimulationMesh& r : refined) {
     const Eigen::VectorXd alpha = fill_on(r.mesh);
     const LoadCase lc = resolve_load_case(scene, r.mesh);
     const ShellModel model(r.mesh, scene.material, lc, mechanics);
     EquilibriumSolver solver(model, options.newton);
     solver.solve(alpha);
-    e.levels.push_back({r.edge_length, r.mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha)});
+    e.levels.push_back({r.edge_length, r.mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha),
+                        support_extent(r.mesh, lc.fixed), support_extent(r.mesh, lc.clamped)});
+    e.support_change = std::max({e.support_change, support_extent_change(e.levels.front().fixed, e.levels.back().fixed, coarse_edge_length),
+                                 support_extent_change(e.levels.front().clamped, e.levels.back().clamped, coarse_edge_length)});
   }
+  e.supports_consistent = e.support_change <= e.support_tolerance;
   std::vector<double> compliances;
   for (const DiscretisationLevel& l : e.levels) compliances.push_back(l.quantities.compliance);
   e.compliance = richardson_extrapolate(compliances);
@@ -86,11 +101,46 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, const std::ve
   e.compliance_change = relative_change(c_h, half.compliance);
   e.W_max_change = relative_change(coarse.W_max, half.W_max);
   e.max_displacement_change = relative_change(coarse.max_displacement, half.max_displacement);
-  e.converged = e.estimated_error <= e.tolerance;
+  e.converged = e.estimated_error <= e.tolerance && e.supports_consistent;
   return e;
 }
 
+namespace {
+std::string extent_words(const SupportExtent& x) {
+  std::vector<std::string> parts;
+  if (x.length > 0) parts.push_back(fmt::format("{:.4g} m of line", x.length));
+  if (x.area > 0) parts.push_back(fmt::format("{:.4g} m² of area", x.area));
+  if (x.points > 0) parts.push_back(fmt::format("{} point{}", x.points, x.points == 1 ? "" : "s"));
+  if (parts.empty()) return "nothing";
+  std::string out = parts.front();
+  for (std::size_t k = 1; k < parts.size(); ++k) out += (k + 1 == parts.size() ? " and " : ", ") + parts[k];
+  return out;
+}
+}  // namespace
+
 std::string discretisation_line(const DiscretisationEstimate& e) {
+  if (!e.supports_consistent && e.levels.size() >= 2) {
+    // Name the level that differs most and the set (fixed or clamped) that differs.
+    const DiscretisationLevel& h = e.levels.front();
+    const DiscretisationLevel* worst = &e.levels[1];
+    bool clamped = false;
+    double change = -1;
+    for (std::size_t k = 1; k < e.levels.size(); ++k)
+      for (bool c : {false, true}) {
+        const double d =
+            support_extent_change(c ? h.clamped : h.fixed, c ? e.levels[k].clamped : e.levels[k].fixed, h.edge_length);
+        if (d > change) change = d, worst = &e.levels[k], clamped = c;
+      }
+    return fmt::format(
+        "NOT converged: the supports hold a different region on each refinement ({} vertices: {} at {:.3g} m, {} at "
+        "{:.3g} m, a change of {:.1f}% against a tolerance of {:.0f}%), so the levels are different structures and "
+        "their compliances ({:.4g} J, {:.4g} J) say nothing of the mesh's error: the supports' selector depends on "
+        "the mesh (a box that catches a surface rising tangentially out of it, or that cuts a support line between "
+        "vertices); select the support region exactly (feet on z = 0: \"z\": {{\"below\": 1e-6}})",
+        clamped ? "clamped" : "fixed", extent_words(clamped ? h.clamped : h.fixed), h.edge_length,
+        extent_words(clamped ? worst->clamped : worst->fixed), worst->edge_length, 100 * change,
+        100 * e.support_tolerance, h.quantities.compliance, worst->quantities.compliance);
+  }
   std::string values;
   for (const DiscretisationLevel& l : e.levels)
     values += fmt::format("{}{:.4g} J at {:.3g} m", values.empty() ? "" : ", ", l.quantities.compliance, l.edge_length);
@@ -115,7 +165,8 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
                       {"compliance", l.quantities.compliance},
                       {"strain_energy", l.quantities.strain_energy},
                       {"W_max", l.quantities.W_max},
-                      {"max_displacement", l.quantities.max_displacement}});
+                      {"max_displacement", l.quantities.max_displacement},
+                      {"supports", {{"fixed", extent_json(l.fixed)}, {"clamped", extent_json(l.clamped)}}}});
   return {{"method", e.method},
           {"levels", levels},
           {"compliance_extrapolated", number_or_null(e.compliance.extrapolated)},
@@ -126,6 +177,9 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
           {"compliance_change", number_or_null(e.compliance_change)},
           {"W_max_change", number_or_null(e.W_max_change)},
           {"max_displacement_change", number_or_null(e.max_displacement_change)},
+          {"support_change", number_or_null(e.support_change)},
+          {"support_tolerance", e.support_tolerance},
+          {"supports_consistent", e.supports_consistent},
           {"tolerance", e.tolerance},
           {"converged", e.converged},
           {"summary", discretisation_line(e)}};

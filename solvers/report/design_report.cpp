@@ -181,13 +181,13 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     const double h = simulation_edge_length(scene, meshes);
     const DiscretisationEstimate uncut = estimate_discretisation(
         scene, refined, [](const SurfaceMesh& m) { return Eigen::VectorXd(Eigen::VectorXd::Ones(m.num_faces())); },
-        mechanics, result.uncut.summary, h, meshes.sim.num_faces());
+        mechanics, result.uncut.summary, h, meshes.sim);
     const DiscretisationEstimate final_design = estimate_discretisation(
         scene, refined,
         [&](const SurfaceMesh& m) {
           return design_fill_ratios(scene, ctx, m, final_params);
         },
-        mechanics, result.final_design.summary, h, meshes.sim.num_faces());
+        mechanics, result.final_design.summary, h, meshes.sim);
     discretisation = {{"uncut", discretisation_json(uncut)},
                       {"final", discretisation_json(final_design)},
                       {"converged", uncut.converged && final_design.converged},

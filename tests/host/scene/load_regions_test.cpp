@@ -223,6 +223,48 @@ TEST(LoadRegions, LoadsDoNotDependOnTheMesh) {
   }
 }
 
+TEST(SupportExtent, LinesAreasAndPointsOfTheFixedVertices) {
+  // The unit square [−0.5, 0.5]² in n × n cells.
+  for (int n : {4, 9, 20}) {
+    SCOPED_TRACE(n);
+    const SurfaceMesh mesh = square(n, 0, 1);
+    auto fixed_where = [&](auto&& pred) {
+      std::vector<bool> f(std::size_t(mesh.num_vertices()), false);
+      for (int v = 0; v < mesh.num_vertices(); ++v) f[std::size_t(v)] = pred(Vec3(mesh.vertices().row(v).transpose()));
+      return f;
+    };
+    // The whole boundary: 4 m of line and no area (a corner triangle with all its vertices on the
+    // boundary is the line turning the corner).
+    const SupportExtent ring =
+        support_extent(mesh, fixed_where([](const Vec3& x) { return std::abs(x.x()) > 0.4999 || std::abs(x.y()) > 0.4999; }));
+    EXPECT_NEAR(ring.length, 4.0, 1e-12);
+    EXPECT_EQ(ring.area, 0.0);
+    EXPECT_EQ(ring.points, 0);
+    // The strip x < −0.25 (a cell boundary when n is a multiple of 4): 0.25 m² of area less the
+    // corner triangles with all three vertices on the boundary (at most two, h²/2 each), and its
+    // outline on the square's boundary, 2 × 0.25 + 1 m, as line.
+    if (n % 4 == 0) {
+      const SupportExtent strip = support_extent(mesh, fixed_where([](const Vec3& x) { return x.x() < -0.2499; }));
+      EXPECT_LE(strip.area, 0.25 + 1e-12);
+      EXPECT_GE(strip.area, 0.25 - 1.0 / (n * n) - 1e-12);
+      EXPECT_NEAR(strip.length, 1.5, 1e-12);
+      EXPECT_EQ(strip.points, 0);
+    }
+    // One vertex: a point.
+    const SupportExtent corner = support_extent(mesh, fixed_where([](const Vec3& x) { return x.x() < -0.4999 && x.y() < -0.4999; }));
+    EXPECT_EQ(corner.points, 1);
+    EXPECT_EQ(corner.length, 0.0);
+    EXPECT_EQ(corner.area, 0.0);
+  }
+  // The comparison: equal extents 0; a corner triangle's h² against a line of 4 m is small; a
+  // line 10% longer is 10%.
+  const SupportExtent a{0.0, 4.0, 0}, b{0.01 * 0.01 / 2, 4.0, 0}, c{0.0, 4.4, 0};
+  EXPECT_EQ(support_extent_change(a, a, 0.01), 0.0);
+  EXPECT_LT(support_extent_change(a, b, 0.01), 2e-3);
+  EXPECT_NEAR(support_extent_change(a, c, 0.01), 0.4 / 4.4, 1e-15);
+  EXPECT_EQ(support_extent_change(SupportExtent{0, 0, 1}, SupportExtent{0, 0, 2}, 0.01), 0.5);
+}
+
 TEST(LoadRegions, MatchedTotalsCarryTheLoadOverHoles) {
   // The square with a 0.2 × 0.2 hole inside the area load's region, as a cut mesh would have it:
   // the faces of an 10×10 grid whose centroids fall in the hole are removed.

@@ -34,6 +34,19 @@ double min_angle_guarantee_deg(const std::string& shape) {
   return 30.0;
 }
 
+/// The mean edge is the requested h within 15%, except on the extruded shapes (table, chair), whose
+/// fillets get a row every 10° of their turn whatever h is (plan_rows): at coarse h those extra rows
+/// pull the mean down, to 0.72 h on the chair at 0.2 m.
+void expect_mean_edge(const SurfaceMesh& m, const std::string& shape, double h) {
+  const double ratio = m.mean_edge_length() / h;
+  if (shape == "table" || shape == "chair") {
+    EXPECT_GE(ratio, 0.7) << shape << " h " << h;
+    EXPECT_LE(ratio, 1.15) << shape << " h " << h;
+  } else {
+    EXPECT_NEAR(ratio, 1.0, 0.15) << shape << " h " << h;
+  }
+}
+
 std::string message_of(const std::function<void()>& f) {
   try {
     f();
@@ -135,7 +148,7 @@ TEST_P(ShapeAtResolution, IsAWellShapedDiskAtTheRequestedResolution) {
   expect_valid_disk(m, r.shape + " " + r.which);
   const double angle = min_angle(m) / kDeg;
   EXPECT_GE(angle, min_angle_guarantee_deg(r.shape) - 1e-9);
-  EXPECT_NEAR(m.mean_edge_length() / h, 1.0, 0.15);
+  expect_mean_edge(m, r.shape, h);
   RecordProperty("min_angle_deg", std::to_string(angle));
   RecordProperty("vertices", m.num_vertices());
   RecordProperty("faces", m.num_faces());
@@ -160,10 +173,19 @@ TEST(Shapes, FaceCountScalesWithInverseSquareEdgeLength) {
     const double h[3] = {info.sim_edge_length, info.base_edge_length, 0.5 * info.base_edge_length};
     double faces[3];
     for (int k = 0; k < 3; ++k) faces[k] = generate_shape(info.name, {}, h[k]).num_faces();
+    // The extruded shapes' fillets get a row every 10° of their turn whatever h is (plan_rows'
+    // max_row_spacing), rows that only refinement past r·π/18 adds to: their counts grow more
+    // slowly than h⁻² at coarse h (table 2449 faces at 0.04 m, where the lattice alone has 2139).
+    const bool fillet_rows = info.name == "table" || info.name == "chair";
     for (int k = 0; k + 1 < 3; ++k) {
       const double expected = (h[k] / h[k + 1]) * (h[k] / h[k + 1]);
-      EXPECT_NEAR(faces[k + 1] / faces[k] / expected, 1.0, 0.15)
-          << "h " << h[k] << " -> " << h[k + 1] << ": " << faces[k] << " -> " << faces[k + 1];
+      const double ratio = faces[k + 1] / faces[k] / expected;
+      if (fillet_rows) {
+        EXPECT_GE(ratio, 0.6) << "h " << h[k] << " -> " << h[k + 1] << ": " << faces[k] << " -> " << faces[k + 1];
+        EXPECT_LE(ratio, 1.15) << "h " << h[k] << " -> " << h[k + 1] << ": " << faces[k] << " -> " << faces[k + 1];
+      } else {
+        EXPECT_NEAR(ratio, 1.0, 0.15) << "h " << h[k] << " -> " << h[k + 1] << ": " << faces[k] << " -> " << faces[k + 1];
+      }
     }
   }
 }
@@ -260,10 +282,10 @@ TEST(Shapes, PavilionStandsOnItsFeetWithCrownAtTheCentre) {
     }
     // Normals up/outward: the vault is a height field over the disk.
     for (int f = 0; f < m.num_faces(); ++f) ASSERT_GT(m.face_normals()(f, 2), 0.0);
-    // Supports select "z below 0.01": one cluster per leg, each a strip of the rim with at
-    // least two vertices exactly on z = 0 (the foot proper; its neighbours on the rising rim
-    // may also be below 0.01).
-    const auto feet = clusters(m, below(m, 0.01));
+    // Supports select "z below 1e-6": one cluster per leg, each a strip of the rim exactly on
+    // z = 0 (a looser bound also takes the rim rising tangentially past the foot's ends: with
+    // "below 0.01", up to 0.11 m more on each side of a fine mesh's foot).
+    const auto feet = clusters(m, below(m, 1e-6));
     EXPECT_EQ(feet.size(), 4u);
     for (const auto& foot : feet) {
       int on_floor = 0;
@@ -272,7 +294,7 @@ TEST(Shapes, PavilionStandsOnItsFeetWithCrownAtTheCentre) {
       for (int v : foot) {
         EXPECT_TRUE(m.is_boundary_vertex()[std::size_t(v)]);
         on_floor += m.vertices()(v, 2) == 0.0;
-        if (m.vertices()(v, 2) > 1e-12) continue;  // the rising rim beside the foot
+        EXPECT_LE(m.vertices()(v, 2), 1e-12);
         const double a = std::remainder(std::atan2(m.vertices()(v, 1), m.vertices()(v, 0)) - centre, 2 * std::numbers::pi);
         first = std::min(first, a), last = std::max(last, a);
       }
@@ -303,7 +325,7 @@ TEST(Shapes, PavilionMeshesWellOverItsParameterRange) {
         const SurfaceMesh m = generate_shape("pavilion", p, h);
         expect_valid_disk(m, label);
         EXPECT_GE(min_angle(m) / kDeg, 25.0);
-        EXPECT_EQ(clusters(m, below(m, 0.01)).size(), std::size_t(legs));
+        EXPECT_EQ(clusters(m, below(m, 1e-6)).size(), std::size_t(legs));
       }
     }
   }
@@ -404,6 +426,30 @@ TEST(Shapes, ChairRunnerLiesOnTheFloorAndTheSeatFacesUp) {
   }
 }
 
+TEST(Shapes, ChairRunnerOnTheFloorIsTheSameStripOnEveryMesh) {
+  // The runner is flat on z = 0 from where its fillet ends to runner_end, extruded over the width:
+  // a row of the extruded lattice lies on the fillet's end (plan_rows), so the faces with all
+  // vertices on the floor cover
+  // exactly that strip at every edge length (before, the strip stopped at the last row short of
+  // the fillet: 0.1115 m² at 0.043 m, 0.1224 m² at 0.0107 m).
+  const double width = 0.45, runner_end = 0.5, radius = 0.06;
+  // The corner at (runner_start, 0) between the diagonal from the seat front (0.45, 0.45) and the
+  // runner turns by π − atan2(0.45, 0.35); the fillet takes radius·tan(turn/2) of the runner.
+  const double turn = std::numbers::pi - std::atan2(0.45, 0.45 - 0.1);
+  const double flat = runner_end - (0.1 + radius * std::tan(0.5 * turn));
+  for (double h : {0.043, 0.0215, 0.01075, 0.005}) {
+    SCOPED_TRACE(h);
+    const SurfaceMesh m = generate_shape("chair", {}, h);
+    double area = 0;
+    for (int f = 0; f < m.num_faces(); ++f) {
+      bool on_floor = true;
+      for (int c = 0; c < 3; ++c) on_floor &= m.vertices()(m.faces()(f, c), 2) < 1e-6;
+      if (on_floor) area += m.face_areas()[f];
+    }
+    EXPECT_NEAR(area, width * flat, 1e-9);
+  }
+}
+
 TEST(Shapes, ExtrudedShapesStayWellShapedForOtherParameters) {
   const std::vector<std::pair<std::string, ShapeParameters>> cases = {
       {"table", {{"length", 2.0}, {"depth", 0.9}, {"height", 0.45}, {"corner_radius", 0.2}}},
@@ -417,7 +463,7 @@ TEST(Shapes, ExtrudedShapesStayWellShapedForOtherParameters) {
       const SurfaceMesh m = generate_shape(shape, params, h);
       expect_valid_disk(m, shape);
       EXPECT_GE(min_angle(m) / kDeg, 29.0) << shape << " h " << h;
-      EXPECT_NEAR(m.mean_edge_length() / h, 1.0, 0.15) << shape << " h " << h;
+      expect_mean_edge(m, shape, h);
       EXPECT_EQ(m.bbox_min().z(), 0.0) << shape;
     }
   }
