@@ -127,6 +127,13 @@ TEST(CheckCommand, DesignAndSimulateReportTheirDiscretisationError) {
   EXPECT_EQ(sim["discretisation"]["method"], "regenerated");
   // The uncut plate converges (6.350, 6.324, 6.309 mJ at 0.01, 0.005, 0.0025 m).
   EXPECT_TRUE(sim["discretisation"]["converged"].get<bool>()) << sim["discretisation"].dump();
+  // Its clamped short side is the same 0.1 m of line on every level.
+  EXPECT_TRUE(sim["discretisation"]["supports_consistent"].get<bool>());
+  EXPECT_EQ(sim["discretisation"]["support_change"].get<double>(), 0.0);
+  for (const auto& level : sim["discretisation"]["levels"]) {
+    EXPECT_NEAR(level["supports"]["clamped"]["length"].get<double>(), 0.1, 1e-12) << level.dump();
+    EXPECT_EQ(level["supports"]["clamped"]["area"].get<double>(), 0.0);
+  }
   const auto off = run_cutwork("simulate plate --no-render --quiet --no-discretisation-estimate --out " +
                                (dir / "off").string());
   ASSERT_EQ(off.exit_code, 0) << off.err;
