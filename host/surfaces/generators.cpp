@@ -69,7 +69,8 @@ std::function<double(double, double)> arc_rows(const RoundedPolyline& profile) {
 }
 
 /// The profile (in the x-z plane) extruded along y over [-width/2, width/2], meshed on the
-/// (arc length × y) rectangle. Normal = tangent × ŷ: +z where the profile runs along +x.
+/// (y × arc length) rectangle with rows along y (plan_rows). Normal = tangent × ŷ: +z where the
+/// profile runs along +x.
 SurfaceMesh extruded_profile(const RoundedPolyline& profile, double width, double h,
                              const std::string& what) {
   // u runs along the extrusion and v along the profile's arc length, with a row of vertices on
