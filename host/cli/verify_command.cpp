@@ -37,7 +37,9 @@ struct VerifyOptions {
   double edge_length = 0;     ///< 0: half the base mesh's mean edge length
   int levels = 4;             ///< at most
   double tolerance = 0.01;    ///< stop when the compliance changes by less (0: run every level)
-  int max_faces = 400'000;
+  int max_faces = 500'000;
+  int grading_depth = 2;
+  double elements_across = 3;
   int threads = 0;
   bool quiet = false;
 };
@@ -156,6 +158,8 @@ void run_verify(const VerifyOptions& opts) {
   co.levels = opts.levels;
   co.tolerance = opts.tolerance;
   co.max_faces = opts.max_faces;
+  co.grading_depth = opts.grading_depth;
+  co.elements_across = opts.elements_across;
   sw.restart();
   const solvers::ConformingVerification v =
       solvers::verify_conforming(loaded.scene, meshes, loaded.load_case, ctx, sf.stencils, co);
@@ -168,7 +172,9 @@ void run_verify(const VerifyOptions& opts) {
   report["options"] = {{"edge_length", co.edge_length},
                        {"levels", co.levels},
                        {"tolerance", co.tolerance},
-                       {"max_faces", co.max_faces}};
+                       {"max_faces", co.max_faces},
+                       {"grading_depth", co.grading_depth},
+                       {"elements_across", co.elements_across}};
   report["coarse"] = run_json(v.coarse);
   json levels = json::array();
   for (const auto& q : v.levels) levels.push_back(run_json(q));
@@ -220,11 +226,14 @@ void run_verify(const VerifyOptions& opts) {
                           v.extrapolated_compliance, v.compliance_error_bar,
                           std::isfinite(v.observed_order) ? fmt::format(" (observed order {:.2f})", v.observed_order)
                                                           : std::string());
-    say(run, fmt::format("cutwork verify: {}: {} stencils; coarse {} triangles, conforming {} triangles (L = {:.3g} m); "
+    say(run, fmt::format("cutwork verify: {}: {} stencils; coarse {} triangles, conforming {} triangles (L = {:.3g} m{}); "
                          "{}; coarse/conforming compliance {:.4f} (extrapolated {:.4f}), strain energy {:.4f}, "
                          "max displacement {:.4f}, W_max {:.4f}; W relative L2 difference {:.3f}; wrote {}",
                          loaded.scene.name, sf.stencils.size(), v.coarse.faces, v.levels.back().faces,
-                         v.levels.back().edge_length, convergence, v.compliance_ratio, v.compliance_ratio_extrapolated,
+                         v.levels.back().edge_length,
+                         co.grading_depth > 0 ? fmt::format(", graded to L/{} along the outlines", 1 << co.grading_depth)
+                                              : std::string(),
+                         convergence, v.compliance_ratio, v.compliance_ratio_extrapolated,
                          v.strain_energy_ratio, v.max_displacement_ratio, v.W_max_ratio, v.W_relative_l2,
                          (out / "report.json").string()));
     if (std::isfinite(v.W_peak_ratio))
@@ -270,8 +279,17 @@ void add_verify_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
   cmd->add_option("--max-faces", opts->max_faces,
-                  "refine no further when the next conforming level would exceed this many triangles")
+                  "solve no conforming level above this many triangles (the first is solved whatever its size)")
       ->check(CLI::Range(1, 100'000'000))
+      ->capture_default_str();
+  cmd->add_option("--grading-depth", opts->grading_depth,
+                  "refine each conforming level up to this many halvings along the outlines, where the material is "
+                  "narrower (or a hole smaller) than --elements-across level-0 triangles (0: uniform)")
+      ->check(CLI::Range(0, 4))
+      ->capture_default_str();
+  cmd->add_option("--elements-across", opts->elements_across,
+                  "triangles the grading puts across the narrowest ligament and a hole's diameter")
+      ->check(CLI::Range(1.0, 16.0))
       ->capture_default_str();
   cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
       ->check(CLI::Range(0, 4096))

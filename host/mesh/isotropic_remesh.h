@@ -22,11 +22,39 @@
 /// small stencil), the triangles next to it are as small as those segments and grow to L away from
 /// it. Boundary vertices where the boundary turns by more than `corner_angle` (the sheet's
 /// corners, a star's tips) are never collapsed away in step 1.
+///
+/// Grading (`grading.depth` > 0, for the conforming verification: a ligament between two holes
+/// one triangle wide is far too stiff). After step 3, up to `depth` passes j = 1, 2, … refine the
+/// faces that need it to L/2^j:
+///  - local width: the material's local width at a face is the diameter of the largest disc inside
+///    the material that holds its centroid (the "local thickness" of image analysis), sampled with
+///    discs centred at face centroids of radius their distance to the boundary. A face whose width
+///    is below `elements_across` × the pass's threshold size s = feature_scale × L/2^(j−1) (so
+///    fewer than that many triangles of the level-0 size s would span it) is refined;
+///  - outline radius: faces at a boundary vertex where the material turns inwards (its angle there
+///    exceeds π: a hole's rim, a notch) with a radius of curvature (mean edge / turn) below
+///    elements_across × s / 2, so a hole gets at least `elements_across` triangles across;
+///  - plus `rings` rings of faces around them, so the size changes by at most 2 per few rings.
+/// Each pass splits the selected region's boundary edges to 4/3 of its size, remeshes the region
+/// (CGAL's isotropic_remeshing on that face range: its border with the rest is kept as it is) and
+/// projects the new interior vertices back onto the input surface. `feature_scale` keeps a family
+/// of meshes self-similar: remeshing at L/2^k with feature_scale 2^k refines the same regions as
+/// at L (the thresholds are in units of the level-0 size), so the sizes are everywhere 2^-k of the
+/// level-0 mesh's and Richardson extrapolation over the family holds.
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "host/core/types.h"
 
 namespace cutwork {
+
+struct GradingOptions {
+  int depth = 0;                 ///< refinement passes (faces down to L/2^depth); 0: uniform, no grading
+  double elements_across = 3;    ///< triangles across the narrowest ligament and a hole's diameter
+  double feature_scale = 1;      ///< thresholds in units of feature_scale × L (see the file comment)
+  int rings = 2;                 ///< rings of faces added around the selected ones
+};
 
 struct RemeshOptions {
   double target_edge_length = 0;   ///< m, > 0
@@ -40,6 +68,7 @@ struct RemeshOptions {
   double repair_flatness = 0.1;
   double cap_angle = 160.0;
   double needle_ratio = 4.0;
+  GradingOptions grading{};        ///< off by default
 };
 
 struct RemeshedMesh {
@@ -48,6 +77,7 @@ struct RemeshedMesh {
   int corner_vertices = 0;  ///< boundary vertices kept as corners
   int collapsed_boundary_edges = 0;  ///< step 1
   int repaired_faces = 0;            ///< step 4: flat faces fewer after the repair
+  std::vector<int> graded_faces;     ///< faces selected by each grading pass (before it remeshed them)
 };
 
 /// Remeshes (V, F) (#V×3, #F×3 consistently oriented, edge-manifold; unreferenced vertices are

@@ -45,12 +45,13 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
 
 /// The base mesh cut along every stencil outline and remeshed at `edge_length`.
 SurfaceMesh conforming_mesh(const PatternContext& ctx, std::span<const StencilParams> stencils, double edge_length,
-                            int iterations) {
+                            int iterations, const GradingOptions& grading) {
   const CutSurface cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), stencils);
   if (cut.faces.rows() == 0) throw InputError("the stencils cut the whole surface away: nothing to verify");
   RemeshOptions ro;
   ro.target_edge_length = edge_length;
   ro.iterations = iterations;
+  ro.grading = grading;
   RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
   return SurfaceMesh(std::move(r.vertices), std::move(r.faces),
                      fmt::format("conforming mesh (edge length {:.4g} m)", edge_length));
@@ -178,6 +179,10 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     throw InputError(fmt::format("conforming levels {} out of range [1, 6]", options.levels));
   if (!(options.tolerance >= 0) || !(options.tolerance < 1))
     throw InputError(fmt::format("conforming tolerance {} out of range [0, 1)", options.tolerance));
+  if (options.grading_depth < 0 || options.grading_depth > 4)
+    throw InputError(fmt::format("conforming grading depth {} out of range [0, 4]", options.grading_depth));
+  if (!(options.elements_across >= 1) || !(options.elements_across <= 16))
+    throw InputError(fmt::format("conforming elements across a ligament {} out of range [1, 16]", options.elements_across));
   if (options.max_faces < 1) throw InputError(fmt::format("conforming face budget {} is not positive", options.max_faces));
   ConformingVerification v;
   NewtonSettings settings = options.newton;
@@ -205,14 +210,25 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.stop = "levels";
   for (int level = 0; level < options.levels; ++level) {
     const double L = options.edge_length / double(1 << level);
-    if (level > 0 && 4.0 * v.levels.back().faces > double(options.max_faces)) {
-      v.stop = "budget";
-      v.notes.push_back(fmt::format("conforming refinement stopped before L = {:.3g} m: about {} triangles would "
-                                    "exceed the budget of {}",
-                                    L, 4 * v.levels.back().faces, options.max_faces));
-      break;
+    // Meshing is cheap next to solving: each level's mesh is built, and the level is solved only
+    // when it is within the budget (always at level 0, said when it is over).
+    GradingOptions grading;
+    grading.depth = options.grading_depth;
+    grading.elements_across = options.elements_across;
+    grading.feature_scale = double(1 << level);
+    SurfaceMesh mesh = conforming_mesh(ctx, stencils, L, options.remesh_iterations, grading);
+    if (mesh.num_faces() > options.max_faces) {
+      if (level > 0) {
+        v.stop = "budget";
+        v.notes.push_back(fmt::format("conforming refinement stopped before L = {:.3g} m: its {} triangles exceed the "
+                                      "budget of {}",
+                                      L, mesh.num_faces(), options.max_faces));
+        break;
+      }
+      v.notes.push_back(fmt::format("the coarsest conforming mesh (L = {:.3g} m) has {} triangles, over the budget of "
+                                    "{}: solved anyway, as the only level",
+                                    L, mesh.num_faces(), options.max_faces));
     }
-    SurfaceMesh mesh = conforming_mesh(ctx, stencils, L, options.remesh_iterations);
     RunQuantities q;
     Eigen::VectorXd W;
     RowMatX3d u;

@@ -21,8 +21,13 @@
 /// which the coarse mesh does not have either).
 ///
 /// Levels: the conforming solve runs at L, L/2, L/4, … until the compliance changes by less than
-/// `tolerance` between two levels (converged), `levels` solves have run, or the next level would
-/// exceed `max_faces` triangles (each level has about four times the last's). The comparison uses
+/// `tolerance` between two levels (converged), `levels` solves have run, or the next level's mesh
+/// has more than `max_faces` triangles (it is built, then left unsolved; level 0 is solved
+/// whatever its size). With `grading_depth` > 0 every level is graded along the outlines
+/// (isotropic_remesh.h): triangles down to L_k/2^depth where a ligament is narrower, or a hole
+/// smaller, than `elements_across` triangles of the level-0 size; the regions are the same on
+/// every level, so each level's sizes are half the last's everywhere and Richardson's rule
+/// below still applies. The comparison uses
 /// the finest level and the Richardson-extrapolated compliance: with the last three levels
 /// C₁, C₂, C₃ (edge lengths L, L/2, L/4) and d₁ = C₂ − C₁, d₂ = C₃ − C₂ of one sign and shrinking,
 /// the observed order is p = log₂(d₁/d₂) and C∞ = C₃ + d₂/(2^p − 1); with two levels, p = 1 is
@@ -58,8 +63,14 @@ struct ConformingOptions {
   double edge_length = 0;   ///< conforming target edge length L (m) at the coarsest level; > 0
   int levels = 1;           ///< at most this many conforming solves at L, L/2, …; in [1, 6]
   double tolerance = 0;     ///< stop once |C_k − C_{k−1}| / |C_k| < tolerance (0: run every level)
-  int max_faces = 400'000;  ///< refine no further when the next level would exceed this many triangles
+  int max_faces = 500'000;  ///< solve no level (but the first) with more triangles than this
   int remesh_iterations = 5;
+  /// Grading along the outlines (isotropic_remesh.h GradingOptions): each level's mesh is refined
+  /// up to this many halvings where the material is narrower, or a hole smaller, than
+  /// `elements_across` level-0 triangles; the thresholds scale with the level (feature_scale 2^k),
+  /// so every level's sizes are half the last's everywhere. 0: uniform levels.
+  int grading_depth = 0;
+  double elements_across = 3;
   NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
 };
 
