@@ -62,7 +62,9 @@ json run_json(const solvers::RunQuantities& q) {
           {"material_area", q.material_area},
           {"load_total", {q.load_total.x(), q.load_total.y(), q.load_total.z()}},
           {"newton_iterations", q.newton_iterations},
-          {"seconds", q.seconds}};
+          {"seconds", q.seconds},
+          {"min_angle", number_or_null(q.min_angle)},
+          {"triangles_below_10_degrees", number_or_null(q.slivers)}};
 }
 
 /// The scene a design folder was made with: --scene, else the one its report.json names.
@@ -186,7 +188,8 @@ void run_verify(const VerifyOptions& opts) {
   notes.insert(notes.end(), v.notes.begin(), v.notes.end());
   report["notes"] = notes;
   report["units"] = {{"compliance", "J"}, {"strain_energy", "J"}, {"max_displacement", "m"}, {"W", "J/m^2"},
-                     {"edge_length", "m"}, {"load_total", "N"}, {"material_area", "m^2"}};
+                     {"edge_length", "m"}, {"load_total", "N"}, {"material_area", "m^2"},
+                     {"min_angle", "degree"}, {"triangles_below_10_degrees", "fraction of the level's triangles"}};
 
   // Per-face fields: NaN (nothing maps there) written as 0 with compared = 0.
   const int nf = meshes.sim.num_faces();

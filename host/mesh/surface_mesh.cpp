@@ -343,17 +343,32 @@ Vec3 SurfaceMesh::phong_normal(const SurfacePoint& p) const {
   return n / len;
 }
 
-double min_angle(const SurfaceMesh& mesh) {
-  double best = std::numeric_limits<double>::infinity();
+namespace {
+/// The smallest interior angle of face f (radians).
+double face_min_angle(const SurfaceMesh& mesh, int f) {
   const auto& V = mesh.vertices();
   const auto& F = mesh.faces();
-  for (int f = 0; f < mesh.num_faces(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 a = V.row(F(f, k)), b = V.row(F(f, (k + 1) % 3)), c = V.row(F(f, (k + 2) % 3));
-      const Vec3 u = b - a, w = c - a;
-      best = std::min(best, std::atan2(u.cross(w).norm(), u.dot(w)));
-    }
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 a = V.row(F(f, k)), b = V.row(F(f, (k + 1) % 3)), c = V.row(F(f, (k + 2) % 3));
+    const Vec3 u = b - a, w = c - a;
+    best = std::min(best, std::atan2(u.cross(w).norm(), u.dot(w)));
+  }
   return best;
+}
+}  // namespace
+
+double min_angle(const SurfaceMesh& mesh) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < mesh.num_faces(); ++f) best = std::min(best, face_min_angle(mesh, f));
+  return best;
+}
+
+double fraction_of_faces_below_angle(const SurfaceMesh& mesh, double angle) {
+  if (mesh.num_faces() == 0) return 0;
+  int below = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) below += face_min_angle(mesh, f) < angle;
+  return double(below) / mesh.num_faces();
 }
 
 double max_aspect_ratio(const SurfaceMesh& mesh) {

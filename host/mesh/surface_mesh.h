@@ -115,6 +115,9 @@ SurfaceMesh midpoint_subdivision(const SurfaceMesh& mesh);
 
 /// Triangle quality: the smallest interior angle (radians) over all faces.
 double min_angle(const SurfaceMesh& mesh);
+/// The fraction of faces (0 for an empty mesh) whose smallest interior angle is below `angle`
+/// (radians): slivers and needles.
+double fraction_of_faces_below_angle(const SurfaceMesh& mesh, double angle);
 /// Largest ratio longest-edge / shortest-altitude-normalised aspect (1 for equilateral, ≥ 1).
 double max_aspect_ratio(const SurfaceMesh& mesh);
 

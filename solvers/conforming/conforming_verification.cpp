@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -249,6 +250,8 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }
     q.edge_length = L;
+    q.min_angle = min_angle(mesh) * 180.0 / std::numbers::pi;
+    q.slivers = fraction_of_faces_below_angle(mesh, 10.0 * std::numbers::pi / 180.0);
     v.levels.push_back(q);
     v.conforming_W = std::move(W);
     v.conforming_displacement = std::move(u);

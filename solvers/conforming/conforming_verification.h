@@ -82,6 +82,10 @@ struct RunQuantities : EquilibriumScalars {
   Vec3 load_total = Vec3::Zero();  ///< N: dead loads plus self-weight, free and supported vertices
   int newton_iterations = 0;
   double seconds = 0;
+  /// Mesh quality (conforming levels; NaN for the coarse run): the smallest angle (degrees) and
+  /// the fraction of triangles with an angle below 10°.
+  double min_angle = NAN;
+  double slivers = NAN;
 };
 
 struct ConformingVerification {

@@ -61,9 +61,22 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
     EXPECT_TRUE(c.contains(key)) << key;
   EXPECT_GT(c["compared_faces"].get<int>(), 0);
 
+  // Graded by default (L/4 along the outlines, 3 triangles across), and each level says its
+  // smallest angle and its share of slivers.
+  EXPECT_EQ(report["options"]["grading_depth"], 2);
+  EXPECT_EQ(report["options"]["elements_across"], 3.0);
+  EXPECT_EQ(report["options"]["max_faces"], 500000);
+  EXPECT_EQ(report["units"]["min_angle"], "degree");
   // Three levels, each finer than the last; compliance differences shrink under refinement.
   const auto& levels = report["conforming"]["levels"];
   ASSERT_EQ(levels.size(), 3u);
+  for (const auto& level : levels) {
+    EXPECT_GT(level["min_angle"].get<double>(), 0.0);
+    EXPECT_LT(level["min_angle"].get<double>(), 60.0 + 1e-9);
+    EXPECT_GE(level["triangles_below_10_degrees"].get<double>(), 0.0);
+    EXPECT_LT(level["triangles_below_10_degrees"].get<double>(), 0.05);
+  }
+  EXPECT_TRUE(report["coarse"]["min_angle"].is_null());
   for (size_t k = 1; k < 3; ++k)
     EXPECT_GT(levels[k]["triangles"].get<int>(), 3 * levels[k - 1]["triangles"].get<int>());
   const auto& d = report["convergence"]["compliance_relative_differences"];

@@ -52,18 +52,7 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * d)).norm();
 }
 
-double min_angle_degrees(const SurfaceMesh& m) {
-  double lo = 180;
-  for (int f = 0; f < m.num_faces(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 p = m.vertices().row(m.faces()(f, k));
-      const Vec3 a = m.vertices().row(m.faces()(f, (k + 1) % 3)).transpose() - p;
-      const Vec3 b = m.vertices().row(m.faces()(f, (k + 2) % 3)).transpose() - p;
-      const double ang = std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / std::numbers::pi;
-      lo = std::min(lo, ang);
-    }
-  return lo;
-}
+double min_angle_degrees(const SurfaceMesh& m) { return min_angle(m) * 180 / std::numbers::pi; }
 
 /// The largest distance of an output boundary vertex from the input's boundary edges.
 double outline_drift(const SurfaceMesh& input, const SurfaceMesh& out) {

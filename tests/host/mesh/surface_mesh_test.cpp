@@ -262,6 +262,15 @@ TEST(SurfaceMesh, QualityMeasures) {
   EXPECT_NEAR(max_aspect_ratio(s), std::sqrt(3.0), 1e-14);
   const auto sliver = test::from_lists({{0, 0, 0}, {1, 0, 0}, {0.5, 0.01, 0}}, {{0, 1, 2}});
   EXPECT_GT(max_aspect_ratio(test::make(sliver)), 80);
+  // Fractions of faces below an angle: the square's two faces have 45° corners.
+  EXPECT_EQ(fraction_of_faces_below_angle(s, std::numbers::pi / 4 - 1e-9), 0.0);
+  EXPECT_EQ(fraction_of_faces_below_angle(s, std::numbers::pi / 4 + 1e-9), 1.0);
+  // An equilateral face beside a sliver (smallest angle atan(0.02) ≈ 1.15°): half of them below 10°.
+  const auto mixed = test::from_lists({{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3.0) / 2, 0}, {0.5, -0.01, 0}},
+                                      {{0, 1, 2}, {0, 3, 1}});
+  const SurfaceMesh mx = test::make(mixed);
+  EXPECT_EQ(fraction_of_faces_below_angle(mx, 10 * std::numbers::pi / 180), 0.5);
+  EXPECT_NEAR(min_angle(mx), std::atan(0.02), 1e-12);
 }
 
 TEST(SurfaceMesh, PointAndPhongNormal) {

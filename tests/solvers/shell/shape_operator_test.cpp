@@ -158,7 +158,9 @@ TEST(ShapeOperatorEnergy, CurvedRestShapesKeepTheirRestCurvature) {
     // Scales: a curvature error of 1e-9/m would give D·1e-18 per area; forces D·1e-9/m per length.
     EXPECT_LE(a.energy, 1e-18 * D * area);
     EXPECT_LE(a.gradient.lpNorm<Eigen::Infinity>(), 1e-9 * D * std::sqrt(area));
-    if (info.name != "plate" && info.name != "sheet") EXPECT_GT(curvature, 0.1);
+    if (info.name != "plate" && info.name != "sheet") {
+      EXPECT_GT(curvature, 0.1);
+    }
   }
 }
 
