@@ -63,6 +63,7 @@ json run_json(const solvers::RunQuantities& q) {
           {"load_total", {q.load_total.x(), q.load_total.y(), q.load_total.z()}},
           {"newton_iterations", q.newton_iterations},
           {"seconds", q.seconds},
+          {"mesh_seconds", q.mesh_seconds},
           {"min_angle", number_or_null(q.min_angle)},
           {"triangles_below_10_degrees", number_or_null(q.slivers)}};
 }

@@ -284,14 +284,21 @@ int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const
   // Every boundary vertex pinned (on a face range, CGAL otherwise lets some slide off the outline).
   auto pinned = m.add_property_map<VertexIndex, bool>("v:pinned", false).first;
   for (const auto v : m.vertices()) pinned[v] = corner[v] || m.is_border(v);
+  // Vertices on no face of the region: the remeshing leaves them where they are (vertices it
+  // creates, or recycles from the region's, read false).
+  auto outside = m.add_property_map<VertexIndex, bool>("v:outside", false).first;
+  for (const auto v : m.vertices()) outside[v] = true;
+  for (const auto f : region)
+    for (const auto v : m.vertices_around_face(m.halfedge(f))) outside[v] = false;
   PMP::isotropic_remeshing(region, size, m,
                            CGAL::parameters::number_of_iterations(unsigned(options.iterations))
                                .vertex_is_constrained_map(pinned)
                                .protect_constraints(true));
-  m.remove_property_map(pinned);
-  m.collect_garbage();
   for (const auto v : m.vertices())
-    if (!m.is_border(v) && !m.is_isolated(v)) m.point(v) = surface.closest_point(m.point(v));
+    if (!outside[v] && !m.is_border(v) && !m.is_isolated(v)) m.point(v) = surface.closest_point(m.point(v));
+  m.remove_property_map(pinned);
+  m.remove_property_map(outside);
+  m.collect_garbage();
   int count = 0;
   for (bool s : selected) count += s;
   return count;

@@ -217,7 +217,9 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     grading.depth = options.grading_depth;
     grading.elements_across = options.elements_across;
     grading.feature_scale = double(1 << level);
+    Stopwatch meshing;
     SurfaceMesh mesh = conforming_mesh(ctx, stencils, L, options.remesh_iterations, grading);
+    const double mesh_seconds = meshing.seconds();
     if (mesh.num_faces() > options.max_faces) {
       if (level > 0) {
         v.stop = "budget";
@@ -250,6 +252,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
     }
     q.edge_length = L;
+    q.mesh_seconds = mesh_seconds;
     q.min_angle = min_angle(mesh) * 180.0 / std::numbers::pi;
     q.slivers = fraction_of_faces_below_angle(mesh, 10.0 * std::numbers::pi / 180.0);
     v.levels.push_back(q);

@@ -81,7 +81,8 @@ struct RunQuantities : EquilibriumScalars {
   double material_area = 0;        ///< m²: Σ α A (coarse) or Σ A (conforming)
   Vec3 load_total = Vec3::Zero();  ///< N: dead loads plus self-weight, free and supported vertices
   int newton_iterations = 0;
-  double seconds = 0;
+  double seconds = 0;              ///< the solve and its summary
+  double mesh_seconds = 0;         ///< conforming levels: cutting and (graded) remeshing
   /// Mesh quality (conforming levels; NaN for the coarse run): the smallest angle (degrees) and
   /// the fraction of triangles with an angle below 10°.
   double min_angle = NAN;
