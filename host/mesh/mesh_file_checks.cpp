@@ -433,6 +433,31 @@ void check_off_structure(std::string_view content, const std::string& what) {
 /// and "endsolid [NAME]" (further solids may follow). assimp reports a bad number by quoting the
 /// rest of the file, and leaks the mesh it was building when it meets anything unexpected, so
 /// nothing malformed may reach it.
+/// A number as assimp's fast_atoreal_move reads it to its end: a sign, then nan, inf or infinity
+/// (any case), or digits with at most one point (a leading point followed by a digit) and an
+/// exponent. strtod takes more (leading space, hexadecimal), on which assimp throws.
+static bool is_plain_real(const std::string& token) {
+  std::size_t i = 0;
+  if (i < token.size() && (token[i] == '+' || token[i] == '-')) ++i;
+  std::string rest = token.substr(i);
+  for (char& ch : rest) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  if (rest == "nan" || rest == "inf" || rest == "infinity") return true;
+  auto digit = [&](std::size_t k) { return k < token.size() && token[k] >= '0' && token[k] <= '9'; };
+  if (!digit(i) && !(i < token.size() && token[i] == '.' && digit(i + 1))) return false;
+  while (digit(i)) ++i;
+  if (i < token.size() && token[i] == '.') {
+    ++i;
+    while (digit(i)) ++i;
+  }
+  if (i < token.size() && (token[i] == 'e' || token[i] == 'E')) {
+    ++i;
+    if (i < token.size() && (token[i] == '+' || token[i] == '-')) ++i;
+    if (!digit(i)) return false;
+    while (digit(i)) ++i;
+  }
+  return i == token.size();
+}
+
 static void check_ascii_stl_grammar(std::string_view text, const std::string& what) {
   std::istringstream in{std::string(text)};
   long long facet = -1;
@@ -454,23 +479,37 @@ static void check_ascii_stl_grammar(std::string_view text, const std::string& wh
     if (!next(token)) fail(fmt::format("the file ends where '{}' was expected", word));
     if (token != word) fail(fmt::format("'{}' where '{}' was expected", excerpt(token, 40), word));
   };
-  // The three numbers on the keyword's own line (assimp reads them within the line and fails
-  // past its end, leaking what it built); what follows them on the line stays in the stream.
+  // The three numbers on the keyword's own line, as assimp reads them: separated by spaces and
+  // tabs only, the line ending at a carriage return, form feed or NUL as well as at '\n', each a
+  // plain number (is_plain_real). Past the line's end, or on anything else, assimp throws and
+  // leaks what it built. What follows the numbers stays in the stream.
   auto numbers = [&](const std::string& of) {
     if (pending.empty()) {
       std::string line;
       std::getline(in, line);
-      std::vector<std::string> words = tokens_of(line);
-      if (words.size() < 3) fail(fmt::format("the {} has {} numbers on its line, expected 3", of, words.size()));
+      const std::size_t end = line.find_first_of(std::string("\r\f\0", 3));
+      std::vector<std::string> words;
+      std::string word;
+      for (char ch : line.substr(0, end)) {
+        if (ch != ' ' && ch != '\t') {
+          word += ch;
+        } else if (!word.empty()) {
+          words.push_back(word);
+          word.clear();
+        }
+      }
+      if (!word.empty()) words.push_back(word);
+      if (words.size() < 3)
+        fail(fmt::format("the {} has {} numbers on its line (separated by spaces or tabs), expected 3", of,
+                         words.size()));
+      if (end != std::string::npos)
+        for (std::string& rest : tokens_of(line.substr(end + 1))) words.push_back(std::move(rest));
       pending.assign(words.rbegin(), words.rend());
     }
     for (int k = 0; k < 3; ++k) {
       std::string token;
       if (!next(token)) fail(fmt::format("the file ends inside the {}", of));
-      char* end = nullptr;
-      std::strtod(token.c_str(), &end);
-      if (end != token.c_str() + token.size())
-        fail(fmt::format("{} coordinate {} '{}' is not a number", of, k, excerpt(token, 40)));
+      if (!is_plain_real(token)) fail(fmt::format("{} coordinate {} '{}' is not a number", of, k, excerpt(token, 40)));
     }
   };
   auto skip_line = [&] {

@@ -471,6 +471,34 @@ INSTANTIATE_TEST_SUITE_P(
       return n;
     });
 
+TEST(ReadMesh, AsciiStlNumbersAreReadAsAssimpReadsThem) {
+  // assimp reads a facet's numbers separated by spaces and tabs, ends a line at a form feed, CR or
+  // NUL, and takes plain decimals only; on anything else it throws and leaks (the fuzzer found a
+  // vertex "0 0 <form feeds>1"). The check refuses each such file with one line naming the facet;
+  // a tab-separated, signed and exponent-written tetrahedron still reads.
+  const fs::path dir = test::temp_dir("mesh-io-stl-numbers");
+  auto stl = [](const std::string& third_vertex) {
+    return "solid t\n facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n   vertex 0 1 0\n   vertex " +
+           third_vertex + "\n  endloop\n endfacet\nendsolid t\n";
+  };
+  for (const std::string& bad : {std::string("1 0 \f\f0"), std::string("1 0\f0"), std::string("1\v0 0"),
+                                 std::string("0x1p0 0 0"), std::string("1 0 0,5"), std::string("1 0 \v0"),
+                                 std::string("1 0 0\r0")}) {
+    SCOPED_TRACE(bad);
+    spit(dir / "bad.stl", stl(bad));
+    try {
+      read_mesh(dir / "bad.stl");
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("ASCII STL facet 0"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+  }
+  spit(dir / "good.stl", stl("1.0e0\t-0 +0."));
+  EXPECT_EQ(read_mesh(dir / "good.stl").num_faces(), 1);
+}
+
 TEST(ReadMesh, HeaderCountsAreCheckedAgainstTheFileSize) {
   // Every count of a small OFF, ASCII and binary PLY set to extreme values: one InputError naming
   // the file each time, never a crash, a hang or an allocation of the declared size (issue 22).
