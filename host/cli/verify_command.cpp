@@ -258,7 +258,7 @@ void add_verify_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "verify",
       "Verify a design on a conforming mesh (paper §6): cut the base surface along every stencil outline of DIR "
-      "(a `cutwork design --out DIR` folder), remesh it isotropically, simulate it without fill ratios and "
+      "(a `cutwork design --out DIR` folder), remesh it isotropically, graded along the outlines, simulate it without fill ratios and "
       "compare with the coarse fill-ratio run; writes DIR/verify/report.json (compliance, strain energy, maximum "
       "displacement of the material, W_max, energy density per coarse face, where they differ most), "
       "DIR/verify/fields.ply (coarse mesh: alpha, W, W_conforming, W_difference) and DIR/verify/conforming.ply");
