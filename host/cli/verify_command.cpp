@@ -68,6 +68,20 @@ json run_json(const solvers::RunQuantities& q) {
           {"triangles_below_10_degrees", number_or_null(q.slivers)}};
 }
 
+/// A conforming level: run_json and its peak (rim recovery, conforming_verification.h).
+json level_json(const solvers::RunQuantities& q) {
+  json j = run_json(q);
+  j["peak"] = number_or_null(q.peak);
+  j["rim_peak"] = number_or_null(q.rim_peak);
+  j["rim_peak_position"] = std::isfinite(q.rim_peak)
+                               ? json{q.rim_peak_position.x(), q.rim_peak_position.y(), q.rim_peak_position.z()}
+                               : json(nullptr);
+  j["rim_points"] = q.rim_points;
+  j["singular_rim_points"] = q.singular_rim_points;
+  j["interior_peak"] = number_or_null(q.interior_peak);
+  return j;
+}
+
 /// The scene a design folder was made with: --scene, else the one its report.json names.
 std::string design_scene(const VerifyOptions& opts, const fs::path& dir, const json& report) {
   if (!opts.scene.empty()) return opts.scene;
@@ -90,7 +104,12 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
             {"W_max_ratio", number_or_null(v.W_max_ratio)},
             {"W_max_conforming_on_coarse", v.W_max_on_coarse},
             {"W_peak_coarse", number_or_null(v.coarse.W_peak_max)},
-            {"W_peak_conforming", v.levels.back().W_max},
+            {"W_peak_conforming", number_or_null(v.levels.back().peak)},
+            {"W_peak_conforming_rule", "the largest energy density recovered on the free rims (a cubic fit of the "
+                                       "positions around each rim vertex, the free-edge conditions, a quadratic "
+                                       "smoothing along the rim); rim points within the level-0 edge length of a "
+                                       "corner turning into the material or of a support's end are singular and "
+                                       "left out"},
             {"W_peak_ratio", number_or_null(v.W_peak_ratio)},
             {"W_peak_conforming_change", number_or_null(v.peak_change)},
             {"W_peak_conforming_converged", v.peak_converged},
@@ -180,8 +199,8 @@ void run_verify(const VerifyOptions& opts) {
                        {"elements_across", co.elements_across}};
   report["coarse"] = run_json(v.coarse);
   json levels = json::array();
-  for (const auto& q : v.levels) levels.push_back(run_json(q));
-  report["conforming"] = {{"levels", levels}, {"finest", run_json(v.levels.back())}};
+  for (const auto& q : v.levels) levels.push_back(level_json(q));
+  report["conforming"] = {{"levels", levels}, {"finest", level_json(v.levels.back())}};
   report["convergence"] = convergence_json(v, co.tolerance);
   report["converged"] = v.converged;
   report["comparison"] = comparison_json(v, meshes.sim);
@@ -242,8 +261,11 @@ void run_verify(const VerifyOptions& opts) {
                          (out / "report.json").string()));
     if (std::isfinite(v.W_peak_ratio))
       say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}), conforming "
-                           "W_max {:.4g} J/m² ({}), ratio {:.4f}",
-                           v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().W_max,
+                           "peak {:.4g} J/m² ({}; {}), ratio {:.4f}",
+                           v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().peak,
+                           fmt::format("recovered on a rim at ({:.4g}, {:.4g}, {:.4g}) m",
+                                       v.levels.back().rim_peak_position.x(), v.levels.back().rim_peak_position.y(),
+                                       v.levels.back().rim_peak_position.z()),
                            std::isfinite(v.peak_change)
                                ? fmt::format("{}: {:.2g}% change over the last level",
                                              v.peak_converged ? "converged" : "NOT converged", 100 * v.peak_change)

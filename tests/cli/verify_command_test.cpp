@@ -75,7 +75,17 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
     EXPECT_LT(level["min_angle"].get<double>(), 60.0 + 1e-9);
     EXPECT_GE(level["triangles_below_10_degrees"].get<double>(), 0.0);
     EXPECT_LT(level["triangles_below_10_degrees"].get<double>(), 0.05);
+    // The conforming peak: recovered on the hole's rim and the free border (rim_recovery.h); the
+    // interior faces' largest W beside it. The sheet is pinned along its border: the points next
+    // to where the pins end are singular.
+    EXPECT_GT(level["rim_points"].get<int>(), 0);
+    EXPECT_LT(level["singular_rim_points"].get<int>(), level["rim_points"].get<int>());
+    EXPECT_EQ(level["rim_peak_position"].size(), 3u);
+    EXPECT_EQ(level["peak"].get<double>(), level["rim_peak"].get<double>());
+    EXPECT_GT(level["interior_peak"].get<double>(), 0.0);
   }
+  EXPECT_EQ(c["W_peak_conforming"].get<double>(), levels[2]["peak"].get<double>());
+  EXPECT_TRUE(c["W_peak_conforming_rule"].is_string());
   EXPECT_TRUE(report["coarse"]["min_angle"].is_null());
   for (size_t k = 1; k < 3; ++k)
     EXPECT_GT(levels[k]["triangles"].get<int>(), 3 * levels[k - 1]["triangles"].get<int>());

@@ -1,0 +1,330 @@
+#include "solvers/conforming/rim_recovery.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <span>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "host/core/error.h"
+
+namespace cutwork::solvers {
+namespace {
+
+/// The interior angle (radians) of face f at its vertex v.
+double angle_at(const RowMatX3d& X, const RowMatX3i& F, int f, int v) {
+  int k = 0;
+  while (F(f, k) != v) ++k;
+  const Vec3 p = X.row(v), a = X.row(F(f, (k + 1) % 3)), b = X.row(F(f, (k + 2) % 3));
+  const Vec3 u = a - p, w = b - p;
+  return std::atan2(u.cross(w).norm(), u.dot(w));
+}
+
+/// Vertex → faces in compressed rows.
+struct VertexFaces {
+  std::vector<int> start, faces;
+  VertexFaces(int nv, const RowMatX3i& F) : start(std::size_t(nv) + 1, 0), faces(std::size_t(3 * F.rows())) {
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) ++start[std::size_t(F(f, k)) + 1];
+    for (int v = 0; v < nv; ++v) start[std::size_t(v) + 1] += start[std::size_t(v)];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) faces[std::size_t(fill[std::size_t(F(f, k))]++)] = int(f);
+  }
+  std::span<const int> of(int v) const {
+    return {faces.data() + start[std::size_t(v)], std::size_t(start[std::size_t(v) + 1] - start[std::size_t(v)])};
+  }
+};
+
+int monomials(int degree) { return (degree + 1) * (degree + 2) / 2; }
+
+/// Per-thread scratch: the vertices of a patch, and a mark per vertex (kept all clear between uses).
+struct Scratch {
+  std::vector<int> nodes;
+  std::vector<char> mark;
+};
+
+/// The vertices within r of X_v reached from v through faces (v first).
+void gather_nodes(int v, double r, const RowMatX3d& X, const RowMatX3i& F, const VertexFaces& vf, Scratch& s) {
+  s.nodes.assign(1, v);
+  s.mark[std::size_t(v)] = 1;
+  for (std::size_t q = 0; q < s.nodes.size(); ++q)
+    for (int f : vf.of(s.nodes[q]))
+      for (int k = 0; k < 3; ++k) {
+        const int w = F(f, k);
+        if (s.mark[std::size_t(w)]) continue;
+        s.mark[std::size_t(w)] = 1;
+        if ((X.row(w) - X.row(v)).norm() <= r) s.nodes.push_back(w);
+        else s.mark[std::size_t(w)] = 2;  // seen, outside: cleared below
+      }
+  // Clear every mark set (inside and outside nodes alike): walk the same faces again.
+  for (int w : s.nodes)
+    for (int f : vf.of(w))
+      for (int k = 0; k < 3; ++k) s.mark[std::size_t(F(f, k))] = 0;
+}
+
+/// Each point's ε_tt, κ_tt, κ_tm replaced by the value at its own arc position of the quadratic
+/// least-squares fit (in arc length) through the points of its run within its patch radius, at
+/// least two on each side where the run has them.
+template <class Runs>
+void smooth_along_runs(std::vector<RimPoint>& rim, const Runs& runs) {
+  for (const auto& run : runs) {
+    const int n = int(run.slots.size());
+    if (n < 3) continue;
+    std::vector<double> arc(static_cast<std::size_t>(n) + 1, 0.0);  // arc[k]: length from the run's first point
+    for (int k = 1; k <= n; ++k)
+      if (k < n || run.cyclic)
+        arc[std::size_t(k)] = arc[std::size_t(k) - 1] +
+                              (rim[std::size_t(run.slots[std::size_t(k % n)])].position -
+                               rim[std::size_t(run.slots[std::size_t(k - 1)])].position).norm();
+    const double total = arc[std::size_t(n)];
+    std::vector<Eigen::Vector3d> smoothed(static_cast<std::size_t>(n));
+    std::vector<std::pair<double, int>> window;
+    for (int k = 0; k < n; ++k) {
+      const RimPoint& p = rim[std::size_t(run.slots[std::size_t(k)])];
+      window.clear();
+      window.push_back({0.0, k});
+      // Walk each way: within the radius, and at least two points.
+      for (int dir : {-1, 1}) {
+        for (int step = 1; step < n; ++step) {
+          int j = k + dir * step;
+          double d;
+          if (run.cyclic) {
+            j = ((j % n) + n) % n;
+            d = arc[std::size_t(j)] - arc[std::size_t(k)];
+            if (dir > 0 && d <= 0) d += total;
+            if (dir < 0 && d >= 0) d -= total;
+            if (2 * step >= n + (dir > 0 ? 1 : 0)) break;  // each point once, split between the sides
+          } else {
+            if (j < 0 || j >= n) break;
+            d = arc[std::size_t(j)] - arc[std::size_t(k)];
+          }
+          if (step > 2 && std::abs(d) > p.patch_radius) break;
+          window.push_back({d, j});
+        }
+      }
+      const int m = int(window.size());
+      const int terms = std::min(3, m);
+      Eigen::MatrixXd A(m, terms);
+      Eigen::MatrixXd y(m, 3);
+      const double scale = std::max(p.patch_radius, 1e-300);
+      for (int i = 0; i < m; ++i) {
+        const double d = window[std::size_t(i)].first / scale;
+        for (int c = 0; c < terms; ++c) A(i, c) = std::pow(d, c);
+        const RimPoint& q = rim[std::size_t(run.slots[std::size_t(window[std::size_t(i)].second)])];
+        y.row(i) << q.strain, q.curvature, q.twist;
+      }
+      smoothed[std::size_t(k)] = A.colPivHouseholderQr().solve(y).row(0).transpose();
+    }
+    for (int k = 0; k < n; ++k) {
+      RimPoint& p = rim[std::size_t(run.slots[std::size_t(k)])];
+      p.strain = smoothed[std::size_t(k)](0);
+      p.curvature = smoothed[std::size_t(k)](1);
+      p.twist = smoothed[std::size_t(k)](2);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, const RimRecoveryOptions& o) {
+  if (!(o.patch_radius > 0) || !std::isfinite(o.patch_radius) || !(o.nodes_per_coefficient >= 1.5) ||
+      !(o.nodes_per_coefficient <= 10) || o.degree < 2 || o.degree > 4 ||
+      !(o.corner_angle > 0) || !(o.corner_angle < 180) || !(o.singular_radius >= 0) ||
+      !std::isfinite(o.singular_radius))
+    throw InputError(fmt::format("rim recovery: bad options (patch radius {}, degree {}, corner angle {}°, "
+                                 "singular radius {} m)",
+                                 o.patch_radius, o.degree, o.corner_angle, o.singular_radius));
+  const SurfaceMesh& mesh = model.mesh();
+  const RowMatX3d& X = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  if (x.rows() != X.rows() || !x.allFinite()) throw InputError("rim recovery: positions do not match the mesh");
+  const VertexFaces vf(mesh.num_vertices(), F);
+  constexpr double kDegree = std::numbers::pi / 180;
+
+  // The rim points (free vertices of the boundary loops, with their loop neighbours) and the
+  // singular corners (any boundary vertex, supported or not, turning into the material).
+  struct Slot {
+    int vertex, prev, next;
+  };
+  std::vector<Slot> slots;
+  std::vector<Vec3> corners, support_ends;
+  std::vector<double> angles;
+  // Runs of consecutive free rim points along a loop (a whole loop without support is one cyclic
+  // run), for the smoothing along the rim.
+  struct Run {
+    std::vector<int> slots;
+    bool cyclic = false;
+  };
+  std::vector<Run> runs;
+  for (const std::vector<int>& loop : mesh.boundary_loops()) {
+    const std::size_t n = loop.size();
+    std::vector<double> angle(n, 0.0);
+    std::vector<char> breaks(n, 0);  // supported vertices and corners (either way) end a run
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int f : vf.of(loop[i])) angle[i] += angle_at(X, F, f, loop[i]);
+      angle[i] /= kDegree;
+      if (!o.corners && angle[i] > 180 + o.corner_angle) corners.push_back(X.row(loop[i]).transpose());
+      breaks[i] = model.fixed()[std::size_t(loop[i])] || std::abs(angle[i] - 180) > o.corner_angle;
+    }
+    // Where a support ends along the rim (a clamp's or a pin's last vertex next to a free one).
+    for (std::size_t i = 0; i < n; ++i)
+      if (model.fixed()[std::size_t(loop[i])] && (!model.fixed()[std::size_t(loop[(i + 1) % n])] ||
+                                                  !model.fixed()[std::size_t(loop[(i + n - 1) % n])]))
+        support_ends.push_back(X.row(loop[i]).transpose());
+    // Walk from a break, if there is one: each run then lies in one piece.
+    std::size_t first = 0;
+    while (first < n && !breaks[first]) ++first;
+    const bool cyclic = first == n;
+    if (cyclic) first = 0;
+    runs.push_back({{}, cyclic});
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = (first + k) % n;
+      const int v = loop[i];
+      if (breaks[i] && !runs.back().slots.empty()) runs.push_back({});
+      if (model.fixed()[std::size_t(v)]) continue;
+      runs.back().slots.push_back(int(slots.size()));
+      slots.push_back({v, loop[(i + n - 1) % n], loop[(i + 1) % n]});
+      angles.push_back(angle[i]);
+      if (breaks[i]) runs.push_back({});  // a corner stands alone: its two sides differ
+    }
+    while (!runs.empty() && runs.back().slots.empty()) runs.pop_back();
+  }
+
+  const Material& mat = model.material();
+  const double E = mat.youngs_modulus, nu = mat.poisson_ratio, h = mat.thickness;
+  const double D = E * h * h * h / (12 * (1 - nu * nu));
+  const int wanted = int(std::ceil(o.nodes_per_coefficient * monomials(o.degree)));
+  std::vector<RimPoint> rim(slots.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    Scratch s;
+    s.mark.assign(std::size_t(mesh.num_vertices()), 0);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Slot& slot = slots[i];
+      const int v = slot.vertex;
+      RimPoint& p = rim[i];
+      p.vertex = v;
+      p.position = X.row(v).transpose();
+      p.material_angle = angles[i];
+      const Vec3 normal = mesh.vertex_normals().row(v).transpose();
+      Vec3 t = (X.row(slot.next) - X.row(slot.prev)).transpose();
+      t -= t.dot(normal) * normal;
+      t.normalize();
+      const Vec3 m = normal.cross(t);
+      p.tangent = t;
+
+      // The patch: vertices within r, r doubled until it holds enough of them.
+      double mean_edge = 0;
+      int edges = 0;
+      for (int f : vf.of(v))
+        for (int k = 0; k < 3; ++k)
+          if (F(f, k) != v) {
+            mean_edge += (X.row(F(f, k)) - X.row(v)).norm();
+            ++edges;
+          }
+      double r = o.patch_radius * mean_edge / std::max(edges, 1);
+      for (int attempt = 0;; ++attempt) {
+        gather_nodes(v, r, X, F, vf, s);
+        if (int(s.nodes.size()) >= wanted || attempt == 8) break;
+        r *= 2;
+      }
+      p.patch_nodes = int(s.nodes.size());
+      p.patch_radius = r;
+
+      // u = x − X fitted by the complete polynomial of the degree (lower where the nodes cannot
+      // determine it) in (s, q)/r; monomials ordered 1, s, q, s², sq, q², s³, …
+      for (int degree = o.degree; degree >= 1; --degree) {
+        const int nc = monomials(degree);
+        const Eigen::Index rows = Eigen::Index(s.nodes.size());
+        Eigen::MatrixXd B(rows, nc), U(rows, 6);  // columns: X − X_v (rest), u = x − X
+        for (Eigen::Index j = 0; j < rows; ++j) {
+          const int w = s.nodes[std::size_t(j)];
+          const Vec3 d = X.row(w).transpose() - p.position;
+          const double sj = d.dot(t) / r, qj = d.dot(m) / r;
+          int c = 0;
+          for (int deg = 0; deg <= degree; ++deg)
+            for (int iq = 0; iq <= deg; ++iq) B(j, c++) = std::pow(sj, deg - iq) * std::pow(qj, iq);
+          U.row(j) << d.transpose(), x.row(w) - X.row(w);
+        }
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(B);
+        qr.setThreshold(1e-6);  // columns are O(1) on the scaled patch: a smaller pivot is a lost one
+        if (degree > 1 && (qr.rank() < nc || rows < nc + 2)) continue;
+        const Eigen::MatrixXd c = qr.solve(U);
+        // Derivatives at (0, 0) in metres: rest X_,α and displacement u_,α, then the second ones.
+        auto first = [&](int k, int col) -> Vec3 { return c.block(k, col, 1, 3).transpose() / r; };
+        const Vec3 Xs = first(1, 0), Xq = first(2, 0), us = first(1, 3), uq = first(2, 3);
+        p.fit_degree = degree;
+        // Green–Lagrange: ½(|x_,s|² − |X_,s|²) per |X_,s|², invariant under the rotations the
+        // geometrically nonlinear solve carries (a linear t·u_,s read −θ²/2 for a rotation θ:
+        // −2.5e-3 on the plate design's tip, 20× its real strain).
+        p.strain = (Xs.dot(us) + 0.5 * us.squaredNorm()) / Xs.squaredNorm();
+        if (degree >= 2) {
+          auto second = [&](int k, int col, double factor) -> Vec3 {
+            return factor * c.block(k, col, 1, 3).transpose() / (r * r);
+          };
+          const Vec3 Xss = second(3, 0, 2), Xsq = second(4, 0, 1), uss = second(3, 3, 2), usq = second(4, 3, 1);
+          const Vec3 n_rest = Xs.cross(Xq).normalized();
+          const Vec3 n = (Xs + us).cross(Xq + uq).normalized();
+          // k = b − b̄, b = n · x_,αβ: the change of the second fundamental form, per unit rest length.
+          p.curvature = ((n - n_rest).dot(Xss) + n.dot(uss)) / Xs.squaredNorm();
+          p.twist = ((n - n_rest).dot(Xsq) + n.dot(usq)) / (Xs.norm() * Xq.norm());
+        }
+        break;
+      }
+    }
+  });
+  if (o.smoothing) smooth_along_runs(rim, runs);
+  for (RimPoint& p : rim)
+    p.energy_density = 0.5 * E * h * p.strain * p.strain + 0.5 * D * (1 - nu * nu) * p.curvature * p.curvature +
+                       D * (1 - nu) * p.twist * p.twist;
+  if (o.corners) corners = *o.corners;
+  corners.insert(corners.end(), support_ends.begin(), support_ends.end());
+  for (RimPoint& p : rim)
+    for (const Vec3& c : corners)
+      if ((p.position - c).norm() <= o.singular_radius || (p.position - c).squaredNorm() == 0) {
+        p.singular = true;
+        break;
+      }
+  return rim;
+}
+
+std::vector<Vec3> singular_corners(const RowMatX3d& V, const RowMatX3i& F, double corner_angle) {
+  const VertexFaces vf(int(V.rows()), F);
+  // Boundary vertices: on an edge used by one face.
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(std::size_t(3 * F.rows()));
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edges.push_back(std::minmax(F(f, k), F(f, (k + 1) % 3)));
+  std::sort(edges.begin(), edges.end());
+  std::vector<char> boundary(std::size_t(V.rows()), 0);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) boundary[std::size_t(edges[i].first)] = boundary[std::size_t(edges[i].second)] = 1;
+    i = j;
+  }
+  std::vector<Vec3> out;
+  for (int v = 0; v < int(V.rows()); ++v) {
+    if (!boundary[std::size_t(v)]) continue;
+    double angle = 0;
+    for (int f : vf.of(v)) angle += angle_at(V, F, f, v);
+    if (angle * 180 / std::numbers::pi > 180 + corner_angle) out.push_back(V.row(v).transpose());
+  }
+  return out;
+}
+
+RimPeak rim_peak(const std::vector<RimPoint>& rim) {
+  RimPeak out;
+  for (std::size_t i = 0; i < rim.size(); ++i)
+    if (!rim[i].singular && (out.index < 0 || rim[i].energy_density > out.energy_density)) {
+      out.energy_density = rim[i].energy_density;
+      out.index = int(i);
+    }
+  return out;
+}
+
+}  // namespace cutwork::solvers
