@@ -107,10 +107,14 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
             {"W_peak_conforming", number_or_null(v.levels.back().peak)},
             {"W_peak_conforming_rule", "the largest energy density recovered on the free rims (a cubic fit of the "
                                        "positions around each rim vertex, the free-edge conditions, a quadratic "
-                                       "smoothing along the rim); rim points within the level-0 edge length of a "
-                                       "corner turning into the material or of a support's end are singular and "
-                                       "left out"},
+                                       "smoothing along the rim); rim points within the minimum feature of a corner "
+                                       "turning into the material or within the level-0 edge length of a support's "
+                                       "end are singular and left out"},
             {"W_peak_ratio", number_or_null(v.W_peak_ratio)},
+            {"W_peak_conforming_extrapolated", number_or_null(v.peak_extrapolated)},
+            {"W_peak_conforming_error_bar", number_or_null(v.peak_error_bar)},
+            {"W_peak_conforming_order", number_or_null(v.peak_order)},
+            {"W_peak_ratio_extrapolated", number_or_null(v.W_peak_ratio_extrapolated)},
             {"W_peak_conforming_change", number_or_null(v.peak_change)},
             {"W_peak_conforming_converged", v.peak_converged},
             {"W_peak_conforming_tolerance", solvers::kPeakTolerance},
@@ -261,16 +265,16 @@ void run_verify(const VerifyOptions& opts) {
                          (out / "report.json").string()));
     if (std::isfinite(v.W_peak_ratio))
       say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}), conforming "
-                           "peak {:.4g} J/m² ({}; {}), ratio {:.4f}",
+                           "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}), extrapolated {:.4g} ± {:.2g}; "
+                           "ratio {:.4f} (extrapolated {:.4f})",
                            v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().peak,
-                           fmt::format("recovered on a rim at ({:.4g}, {:.4g}, {:.4g}) m",
-                                       v.levels.back().rim_peak_position.x(), v.levels.back().rim_peak_position.y(),
-                                       v.levels.back().rim_peak_position.z()),
+                           v.levels.back().rim_peak_position.x(), v.levels.back().rim_peak_position.y(),
+                           v.levels.back().rim_peak_position.z(),
                            std::isfinite(v.peak_change)
                                ? fmt::format("{}: {:.2g}% change over the last level",
                                              v.peak_converged ? "converged" : "NOT converged", 100 * v.peak_change)
                                : std::string("one level: convergence unknown"),
-                           v.W_peak_ratio));
+                           v.peak_extrapolated, v.peak_error_bar, v.W_peak_ratio, v.W_peak_ratio_extrapolated));
   }
 }
 

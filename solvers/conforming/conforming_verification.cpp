@@ -2,6 +2,7 @@
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/richardson.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -255,11 +256,13 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       }
       const ShellModel model(mesh, scene.material, lc, mechanics);
       solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, W, &u);
-      // The peak: recovered on the rims (the corners' singular zone fixed at the level-0 edge
-      // length, the same on every level), and over the interior faces.
+      // The peak: recovered on the rims (singular zones of the minimum feature about corners and of
+      // the level-0 edge length about support ends, the same on every level), and over the
+      // interior faces.
       Stopwatch recovering;
       RimRecoveryOptions ro = rim_defaults;
-      ro.singular_radius = options.edge_length;
+      ro.corner_radius = scene.fabrication.min_feature;
+      ro.support_radius = options.edge_length;
       ro.corners = &corners;
       rim = recover_rim(model, mesh.vertices() + u, ro);
       const RimPeak rp = rim_peak(rim);
@@ -312,6 +315,17 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.max_displacement_ratio = ratio(v.coarse.max_displacement, f.max_displacement);
   v.W_max_ratio = ratio(v.coarse.W_max, f.W_max);
   if (std::isfinite(v.coarse.W_peak_max)) v.W_peak_ratio = ratio(v.coarse.W_peak_max, f.peak);
+  {
+    std::vector<double> peaks;
+    for (const RunQuantities& q : v.levels) peaks.push_back(q.peak);
+    if (std::all_of(peaks.begin(), peaks.end(), [](double p) { return std::isfinite(p); })) {
+      const Richardson r = richardson_extrapolate(peaks);
+      v.peak_extrapolated = r.extrapolated;
+      v.peak_order = r.order;
+      v.peak_error_bar = r.error_bar;
+      if (std::isfinite(v.coarse.W_peak_max)) v.W_peak_ratio_extrapolated = ratio(v.coarse.W_peak_max, r.extrapolated);
+    }
+  }
   if (v.levels.size() >= 2) {
     const double previous = v.levels[v.levels.size() - 2].peak;
     v.peak_change = std::abs(f.peak - previous) / f.peak;

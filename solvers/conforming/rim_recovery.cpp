@@ -134,11 +134,11 @@ void smooth_along_runs(std::vector<RimPoint>& rim, const Runs& runs) {
 std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, const RimRecoveryOptions& o) {
   if (!(o.patch_radius > 0) || !std::isfinite(o.patch_radius) || !(o.nodes_per_coefficient >= 1.5) ||
       !(o.nodes_per_coefficient <= 10) || o.degree < 2 || o.degree > 4 ||
-      !(o.corner_angle > 0) || !(o.corner_angle < 180) || !(o.singular_radius >= 0) ||
-      !std::isfinite(o.singular_radius))
+      !(o.corner_angle > 0) || !(o.corner_angle < 180) || !(o.corner_radius >= 0) ||
+      !std::isfinite(o.corner_radius) || !(o.support_radius >= 0) || !std::isfinite(o.support_radius))
     throw InputError(fmt::format("rim recovery: bad options (patch radius {}, degree {}, corner angle {}°, "
-                                 "singular radius {} m)",
-                                 o.patch_radius, o.degree, o.corner_angle, o.singular_radius));
+                                 "singular radii {} m at corners, {} m at supports)",
+                                 o.patch_radius, o.degree, o.corner_angle, o.corner_radius, o.support_radius));
   const SurfaceMesh& mesh = model.mesh();
   const RowMatX3d& X = mesh.vertices();
   const RowMatX3i& F = mesh.faces();
@@ -282,13 +282,12 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
     p.energy_density = 0.5 * E * h * p.strain * p.strain + 0.5 * D * (1 - nu * nu) * p.curvature * p.curvature +
                        D * (1 - nu) * p.twist * p.twist;
   if (o.corners) corners = *o.corners;
-  corners.insert(corners.end(), support_ends.begin(), support_ends.end());
+  auto near = [](const Vec3& x, const std::vector<Vec3>& points, double radius) {
+    return std::any_of(points.begin(), points.end(),
+                       [&](const Vec3& c) { return (x - c).norm() <= radius || (x - c).squaredNorm() == 0; });
+  };
   for (RimPoint& p : rim)
-    for (const Vec3& c : corners)
-      if ((p.position - c).norm() <= o.singular_radius || (p.position - c).squaredNorm() == 0) {
-        p.singular = true;
-        break;
-      }
+    p.singular = near(p.position, corners, o.corner_radius) || near(p.position, support_ends, o.support_radius);
   return rim;
 }
 

@@ -55,9 +55,12 @@
 /// a re-entrant corner — and linear elasticity's stress there is unbounded: a recovered value grows
 /// without limit under refinement. Where a support ends along a free edge (a clamp's last vertex
 /// next to a free one) the field may be singular too, depending on the corner's angle and the
-/// support, and a clamp's root is not a ligament either. Rim points within `singular_radius` (m,
-/// fixed by the caller across refinement levels) of either are marked `singular` and left out of
-/// the peak.
+/// support, and a clamp's root is not a ligament either. Rim points within `corner_radius` of such a
+/// corner or `support_radius` of a support's end (m, fixed by the caller across refinement levels)
+/// are marked `singular` and left out of the peak. `cutwork verify` takes the fabrication minimum
+/// feature for corners (a printed tip is rounded at about that size; the level-0 edge length left
+/// 85% of the chair's rim points out, its stars being a few edge lengths across) and the level-0
+/// edge length for supports.
 ///
 /// Smoothing (step 6). The values of neighbouring rim points scatter with the shapes of the faces
 /// around them (on the table's default design, 1.5–2× between neighbours where a 1.2 mm ligament is
@@ -80,7 +83,8 @@ struct RimRecoveryOptions {
   bool smoothing = true;      ///< the rim's quadratic fit in arc length (step 6)
   double nodes_per_coefficient = 2;  ///< a patch holds at least this many vertices per coefficient; [1.5, 10]
   double corner_angle = 30;   ///< degrees past 180° at which a rim vertex is a singular corner
-  double singular_radius = 0; ///< m: rim points this close to a singular corner are `singular`
+  double corner_radius = 0;   ///< m: rim points this close to a singular corner are `singular`
+  double support_radius = 0;  ///< m: … and this close to a support's end
   /// The singular corners, when the caller knows them better than the mesh does (the design's
   /// outline before remeshing: a coarse level turns a small circle into a hexagon, whose 60° turns
   /// are the mesh's, not the shell's); null: the mesh's own boundary vertices past corner_angle.
@@ -97,7 +101,7 @@ struct RimPoint {
   double twist = 0;              ///< κ_tm (1/m)
   double energy_density = 0;     ///< W (J/m²)
   double material_angle = 0;     ///< degrees: the sum of the vertex's face angles
-  bool singular = false;         ///< within singular_radius of a corner past corner_angle
+  bool singular = false;         ///< near a corner past corner_angle or a support's end
   int patch_nodes = 0;           ///< vertices in the fit
   int fit_degree = 0;            ///< the degree the fit used
   double patch_radius = 0;       ///< r of the patch (m)

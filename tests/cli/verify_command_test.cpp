@@ -86,6 +86,13 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   }
   EXPECT_EQ(c["W_peak_conforming"].get<double>(), levels[2]["peak"].get<double>());
   EXPECT_TRUE(c["W_peak_conforming_rule"].is_string());
+  // Three levels: the peak extrapolated as the compliance is (richardson.h), its error bar the
+  // distance from the finest level.
+  const double p2 = levels[2]["peak"];
+  const double p_inf = c["W_peak_conforming_extrapolated"], bar = c["W_peak_conforming_error_bar"];
+  EXPECT_NEAR(bar, std::abs(p_inf - p2), 1e-12 * p2);
+  EXPECT_GT(bar, 0.0);
+  EXPECT_TRUE(c.contains("W_peak_ratio_extrapolated"));
   EXPECT_TRUE(report["coarse"]["min_angle"].is_null());
   for (size_t k = 1; k < 3; ++k)
     EXPECT_GT(levels[k]["triangles"].get<int>(), 3 * levels[k - 1]["triangles"].get<int>());

@@ -16,6 +16,7 @@
 #include "host/scene/scene.h"
 #include "tests/support/test_support.h"
 #include "solvers/conforming/conforming_verification.h"
+#include "solvers/conforming/richardson.h"
 
 namespace cutwork::solvers {
 namespace {
@@ -172,6 +173,13 @@ TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBrackets
     ASSERT_TRUE(std::isfinite(q.rim_peak));
     ASSERT_TRUE(std::isfinite(q.interior_peak));
     EXPECT_EQ(q.peak, q.rim_peak);
+  }
+  {
+    const std::vector<double> peaks{all.levels[0].peak, all.levels[1].peak, all.levels[2].peak, all.levels[3].peak};
+    const Richardson r = richardson_extrapolate(peaks);
+    EXPECT_EQ(all.peak_extrapolated, r.extrapolated);
+    EXPECT_EQ(all.peak_error_bar, r.error_bar);
+    EXPECT_DOUBLE_EQ(all.W_peak_ratio_extrapolated, all.coarse.W_peak_max / r.extrapolated);
   }
   const double peak_change = std::abs(all.levels[3].peak - all.levels[2].peak) / all.levels[3].peak;
   EXPECT_DOUBLE_EQ(all.peak_change, peak_change);

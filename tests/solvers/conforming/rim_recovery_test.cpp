@@ -276,7 +276,7 @@ TEST(RimRecovery, GoodierRimMomentConvergesInBendingWhereTheFacesDoNot) {
 TEST(RimRecovery, StarTipsAreSingularAndLeftOutOfThePeak) {
   const nlohmann::json star = {{"name", "star"}, {"kind", "star"}, {"params", {{"points", 5}, {"inner_ratio", 0.5}}}};
   RimRecoveryOptions options;
-  options.singular_radius = 0.25 * kRadius;
+  options.corner_radius = 0.25 * kRadius;
   const HoleRun run = run_hole(0, Loading::Tension, star, options);
   int tips = 0, singular = 0;
   for (const RimPoint& p : run.rim) {
@@ -302,7 +302,7 @@ TEST(RimRecovery, WhereASupportEndsTheRimIsSingular) {
   // Kirsch's plate is held by a clamp over 0.6a of its left edge (x = −10a): the left edge's free
   // points within the radius of the clamp's two ends are singular, the rest of the border is not.
   RimRecoveryOptions options;
-  options.singular_radius = kRadius;
+  options.support_radius = kRadius;
   const HoleRun run = run_hole(0, Loading::Tension, kCircle, options);
   int near = 0, far = 0;
   for (const RimPoint& p : run.all_rim) {
@@ -332,7 +332,8 @@ TEST(RimRecovery, RejectsBadOptions) {
                    +[](RimRecoveryOptions& o) { o.patch_radius = NAN; },
                    +[](RimRecoveryOptions& o) { o.corner_angle = 0; },
                    +[](RimRecoveryOptions& o) { o.corner_angle = 180; },
-                   +[](RimRecoveryOptions& o) { o.singular_radius = -1; }}) {
+                   +[](RimRecoveryOptions& o) { o.corner_radius = -1; },
+                   +[](RimRecoveryOptions& o) { o.support_radius = NAN; }}) {
     RimRecoveryOptions o;
     bad(o);
     EXPECT_THROW(recover_rim(model, X, o), InputError);
