@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "host/core/error.h"
@@ -200,9 +201,11 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
   const double D = E * h * h * h / (12 * (1 - nu * nu));
   const int wanted = int(std::ceil(o.nodes_per_coefficient * monomials(o.degree)));
   std::vector<RimPoint> rim(slots.size());
+  // One scratch per thread: its mark array is #V long, too long to clear per chunk.
+  tbb::enumerable_thread_specific<Scratch> scratch(
+      [&] { return Scratch{{}, std::vector<char>(std::size_t(mesh.num_vertices()), 0)}; });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
-    Scratch s;
-    s.mark.assign(std::size_t(mesh.num_vertices()), 0);
+    Scratch& s = scratch.local();
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Slot& slot = slots[i];
       const int v = slot.vertex;
