@@ -298,6 +298,13 @@ TEST(RimRecovery, StarTipsAreSingularAndLeftOutOfThePeak) {
   EXPECT_GT(tip_max, rp.energy_density);  // what was left out is the larger: the tips' spikes
 }
 
+/// The built-in plate on its simulation mesh: free rims on three sides, a clamp on the fourth.
+struct BuiltInPlate {
+  Scene scene = parse_scene(builtin_scene_json("plate"), "test:plate");
+  SceneMeshes meshes = build_scene_meshes(scene);
+  ShellModel model{meshes.sim, scene.material, resolve_load_case(scene, meshes.sim), MechanicsSettings{}};
+};
+
 TEST(RimRecovery, WhereASupportEndsTheRimIsSingular) {
   // Kirsch's plate is held by a clamp over 0.6a of its left edge (x = −10a): the left edge's free
   // points within the radius of the clamp's two ends are singular, the rest of the border is not.
@@ -321,11 +328,9 @@ TEST(RimRecovery, WhereASupportEndsTheRimIsSingular) {
 }
 
 TEST(RimRecovery, RejectsBadOptions) {
-  nlohmann::json doc = builtin_scene_json("plate");
-  const Scene scene = parse_scene(doc, "test:plate");
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  const ShellModel model(meshes.sim, scene.material, resolve_load_case(scene, meshes.sim), MechanicsSettings{});
-  const RowMatX3d& X = meshes.sim.vertices();
+  const BuiltInPlate plate;
+  const ShellModel& model = plate.model;
+  const RowMatX3d& X = plate.meshes.sim.vertices();
   EXPECT_NO_THROW(recover_rim(model, X));
   for (auto bad : {+[](RimRecoveryOptions& o) { o.degree = 1; }, +[](RimRecoveryOptions& o) { o.degree = 5; },
                    +[](RimRecoveryOptions& o) { o.patch_radius = 0; },
@@ -333,7 +338,9 @@ TEST(RimRecovery, RejectsBadOptions) {
                    +[](RimRecoveryOptions& o) { o.corner_angle = 0; },
                    +[](RimRecoveryOptions& o) { o.corner_angle = 180; },
                    +[](RimRecoveryOptions& o) { o.corner_radius = -1; },
-                   +[](RimRecoveryOptions& o) { o.support_radius = NAN; }}) {
+                   +[](RimRecoveryOptions& o) { o.support_radius = NAN; },
+                   +[](RimRecoveryOptions& o) { o.nodes_per_coefficient = 1.4; },
+                   +[](RimRecoveryOptions& o) { o.nodes_per_coefficient = 11; }}) {
     RimRecoveryOptions o;
     bad(o);
     EXPECT_THROW(recover_rim(model, X, o), InputError);
@@ -344,11 +351,9 @@ TEST(RimRecovery, RejectsBadOptions) {
 }
 
 TEST(RimRecovery, RigidMotionsReadNothingAndAStretchReadsItsGreenStrain) {
-  nlohmann::json doc = builtin_scene_json("plate");
-  const Scene scene = parse_scene(doc, "test:plate");
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  const ShellModel model(meshes.sim, scene.material, resolve_load_case(scene, meshes.sim), MechanicsSettings{});
-  const RowMatX3d& X = meshes.sim.vertices();
+  const BuiltInPlate plate;
+  const ShellModel& model = plate.model;
+  const RowMatX3d& X = plate.meshes.sim.vertices();
   // A finite rotation (0.4 rad) and a translation: no strain, no curvature (a linear strain would
   // read −(1 − cos 0.4) = −0.079 along every rim).
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix();
