@@ -21,6 +21,7 @@
 #include "host/mesh/mesh_io.h"
 #include "host/pattern/stencils_json.h"
 #include "solvers/conforming/conforming_verification.h"
+#include "solvers/conforming/discretisation_estimate.h"
 #include "solvers/objective/peak_energy_density.h"
 #include "solvers/report/run_report.h"
 
@@ -34,10 +35,12 @@ using nlohmann::json;
 struct VerifyOptions {
   std::string dir;
   std::string scene;          ///< overrides the scene the design's report names
-  double edge_length = 0;     ///< 0: half the base mesh's mean edge length
+  double edge_length = 0;     ///< 0: the base mesh's mean edge length
   int levels = 4;             ///< at most
-  double tolerance = 0.01;    ///< stop when the compliance changes by less (0: run every level)
-  int max_faces = 500'000;
+  double tolerance = 0.01;    ///< converged when the error bar is within it (0: run every level)
+  int min_levels = 3;         ///< the fewest levels that count as converged
+  int peak_zoom = 2;          ///< zoom steps about the rim peak (0: none)
+  int max_faces = 800'000;
   int grading_depth = 2;
   double elements_across = 3;
   int threads = 0;
@@ -79,6 +82,8 @@ json level_json(const solvers::RunQuantities& q) {
   j["rim_points"] = q.rim_points;
   j["singular_rim_points"] = q.singular_rim_points;
   j["interior_peak"] = number_or_null(q.interior_peak);
+  j["supports"] = {{"fixed", solvers::support_extent_json(q.fixed_extent)},
+                   {"clamped", solvers::support_extent_json(q.clamped_extent)}};
   return j;
 }
 
@@ -104,12 +109,14 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
             {"W_max_ratio", number_or_null(v.W_max_ratio)},
             {"W_max_conforming_on_coarse", v.W_max_on_coarse},
             {"W_peak_coarse", number_or_null(v.coarse.W_peak_max)},
-            {"W_peak_conforming", number_or_null(v.levels.back().peak)},
+            {"W_peak_conforming", number_or_null(v.conforming_peak)},
             {"W_peak_conforming_rule", "the largest energy density recovered on the free rims (a cubic fit of the "
                                        "positions around each rim vertex, the free-edge conditions, a quadratic "
                                        "smoothing along the rim); rim points within the minimum feature of a corner "
                                        "turning into the material or within the level-0 edge length of a support's "
-                                       "end are singular and left out"},
+                                       "end are singular and left out; with the peak zoom, on its last step (the "
+                                       "finest level's mesh with the rims about the peak's candidates refined further), "
+                                       "and extrapolated over its steps"},
             {"W_peak_ratio", number_or_null(v.W_peak_ratio)},
             {"W_peak_conforming_extrapolated", number_or_null(v.peak_extrapolated)},
             {"W_peak_conforming_error_bar", number_or_null(v.peak_error_bar)},
@@ -135,7 +142,7 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
   return c;
 }
 
-json convergence_json(const solvers::ConformingVerification& v, double tolerance) {
+json convergence_json(const solvers::ConformingVerification& v, double tolerance, int min_levels) {
   // |C_{k+1} − C_k| / C_finest between consecutive levels: shrinking when the conforming solve converges.
   const std::vector<solvers::RunQuantities>& levels = v.levels;
   json d = json::array();
@@ -144,12 +151,20 @@ json convergence_json(const solvers::ConformingVerification& v, double tolerance
   return {{"compliance_relative_differences", d},
           {"converged", v.converged},
           {"tolerance", tolerance},
+          {"min_levels", min_levels},
+          {"rule", fmt::format("converged when at least {} levels ran, the extrapolated compliance's error bar "
+                               "is within the tolerance of it and the supports hold the same region on every level",
+                               min_levels)},
           {"stop", v.stop},
           {"last_change", number_or_null(v.last_change)},
           {"compliance_finest", c},
           {"compliance_extrapolated", number_or_null(v.extrapolated_compliance)},
           {"compliance_error_bar", number_or_null(v.compliance_error_bar)},
-          {"observed_order", number_or_null(v.observed_order)}};
+          {"compliance_relative_error_bar", number_or_null(v.relative_error_bar)},
+          {"observed_order", number_or_null(v.observed_order)},
+          {"support_change", number_or_null(v.support_change)},
+          {"support_tolerance", kSupportExtentTolerance},
+          {"supports_consistent", v.supports_consistent}};
 }
 
 void run_verify(const VerifyOptions& opts) {
@@ -180,9 +195,11 @@ void run_verify(const VerifyOptions& opts) {
   timings.add("stencils", sw.seconds());
 
   solvers::ConformingOptions co;
-  co.edge_length = opts.edge_length > 0 ? opts.edge_length : 0.5 * meshes.base.mean_edge_length();
+  co.edge_length = opts.edge_length > 0 ? opts.edge_length : meshes.base.mean_edge_length();
   co.levels = opts.levels;
   co.tolerance = opts.tolerance;
+  co.min_levels = opts.min_levels;
+  co.peak_zoom = opts.peak_zoom;
   co.max_faces = opts.max_faces;
   co.grading_depth = opts.grading_depth;
   co.elements_across = opts.elements_across;
@@ -198,6 +215,8 @@ void run_verify(const VerifyOptions& opts) {
   report["options"] = {{"edge_length", co.edge_length},
                        {"levels", co.levels},
                        {"tolerance", co.tolerance},
+                       {"min_levels", co.min_levels},
+                       {"peak_zoom", co.peak_zoom},
                        {"max_faces", co.max_faces},
                        {"grading_depth", co.grading_depth},
                        {"elements_across", co.elements_across}};
@@ -205,7 +224,29 @@ void run_verify(const VerifyOptions& opts) {
   json levels = json::array();
   for (const auto& q : v.levels) levels.push_back(level_json(q));
   report["conforming"] = {{"levels", levels}, {"finest", level_json(v.levels.back())}};
-  report["convergence"] = convergence_json(v, co.tolerance);
+  report["convergence"] = convergence_json(v, co.tolerance, co.min_levels);
+  if (!v.zoom.steps.empty()) {
+    json steps = json::array();
+    for (const auto& s : v.zoom.steps)
+      steps.push_back({{"triangles", s.faces},
+                       {"rim_edge_length", s.rim_edge_length},
+                       {"peak", number_or_null(s.peak)},
+                       {"position", json{s.position.x(), s.position.y(), s.position.z()}},
+                       {"peak_outside", number_or_null(s.peak_outside)},
+                       {"compliance", number_or_null(s.compliance)},
+                       {"seconds", s.seconds},
+                       {"mesh_seconds", s.mesh_seconds}});
+    json centres = json::array();
+    for (const Vec3& c : v.zoom.centres) centres.push_back({c.x(), c.y(), c.z()});
+    report["peak_zoom"] = {{"centres", centres},
+                           {"radius", v.zoom.radius},
+                           {"steps", steps},
+                           {"extrapolated", number_or_null(v.zoom.extrapolated)},
+                           {"order", number_or_null(v.zoom.order)},
+                           {"error_bar", number_or_null(v.zoom.error_bar)},
+                           {"change", number_or_null(v.zoom.change)},
+                           {"converged", v.zoom.converged}};
+  }
   report["converged"] = v.converged;
   report["comparison"] = comparison_json(v, meshes.sim);
   std::vector<std::string> notes = loaded.notes;
@@ -246,9 +287,10 @@ void run_verify(const VerifyOptions& opts) {
     const std::string convergence =
         v.levels.size() < 2
             ? std::string("one level, convergence not measured")
-            : fmt::format("{} after {} levels (last change {:.2g}%{}): conforming compliance {:.5g} J, extrapolated "
-                          "{:.5g} ± {:.2g} J{}",
-                          v.converged ? "converged" : "NOT converged", v.levels.size(), 100 * v.last_change,
+            : fmt::format("{} after {} levels (error bar {:.2g}%, last change {:.2g}%{}): conforming compliance {:.5g} "
+                          "J, extrapolated {:.5g} ± {:.2g} J{}",
+                          v.converged ? "converged" : "NOT converged", v.levels.size(), 100 * v.relative_error_bar,
+                          100 * v.last_change,
                           v.stop == "budget" ? ", face budget reached" : "", v.levels.back().compliance,
                           v.extrapolated_compliance, v.compliance_error_bar,
                           std::isfinite(v.observed_order) ? fmt::format(" (observed order {:.2f})", v.observed_order)
@@ -263,16 +305,21 @@ void run_verify(const VerifyOptions& opts) {
                          convergence, v.compliance_ratio, v.compliance_ratio_extrapolated,
                          v.strain_energy_ratio, v.max_displacement_ratio, v.W_max_ratio, v.W_relative_l2,
                          (out / "report.json").string()));
+    const bool zoomed = v.zoom.steps.size() >= 2;
+    const Vec3 peak_position = zoomed ? v.zoom.steps.back().position : v.levels.back().rim_peak_position;
     if (std::isfinite(v.W_peak_ratio))
       say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}), conforming "
                            "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}), extrapolated {:.4g} ± {:.2g}; "
                            "ratio {:.4f} (extrapolated {:.4f})",
-                           v.coarse.W_peak_max, v.coarse.W_max, v.levels.back().peak,
-                           v.levels.back().rim_peak_position.x(), v.levels.back().rim_peak_position.y(),
-                           v.levels.back().rim_peak_position.z(),
+                           v.coarse.W_peak_max, v.coarse.W_max, v.conforming_peak, peak_position.x(),
+                           peak_position.y(), peak_position.z(),
                            std::isfinite(v.peak_change)
-                               ? fmt::format("{}: {:.2g}% change over the last level",
-                                             v.peak_converged ? "converged" : "NOT converged", 100 * v.peak_change)
+                               ? fmt::format("{}: {:.2g}% change over the last {}",
+                                             v.peak_converged ? "converged" : "NOT converged", 100 * v.peak_change,
+                                             zoomed ? fmt::format("of {} zoom steps, rims at {:.2g} m",
+                                                                  v.zoom.steps.size() - 1,
+                                                                  v.zoom.steps.back().rim_edge_length)
+                                                    : std::string("level"))
                                : std::string("one level: convergence unknown"),
                            v.peak_extrapolated, v.peak_error_bar, v.W_peak_ratio, v.W_peak_ratio_extrapolated));
   }
@@ -295,8 +342,8 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--scene", opts->scene,
                   "the scene the design was made with (default: the one DIR/report.json names)");
   cmd->add_option("--edge-length", opts->edge_length,
-                  "target edge length of the conforming mesh at the coarsest level, m (0: half the base mesh's "
-                  "mean edge length)")
+                  "target edge length of the conforming mesh at the coarsest level, m (0: the base mesh's mean "
+                  "edge length)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--levels", opts->levels,
@@ -305,12 +352,24 @@ void add_verify_command(CLI::App& app) {
       ->check(CLI::Range(1, 6))
       ->capture_default_str();
   cmd->add_option("--tolerance", opts->tolerance,
-                  "stop refining once the conforming compliance changes by less than this fraction between two "
-                  "levels (report.json `converged`; 0: run every level)")
+                  "stop refining once the Richardson-extrapolated conforming compliance's error bar is within this "
+                  "fraction of it, after at least --min-levels levels (report.json `converged`; 0: run every level)")
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
+  cmd->add_option("--min-levels", opts->min_levels,
+                  "the fewest conforming levels that may count as converged (two that agree can do so by chance; "
+                  "three show an order)")
+      ->check(CLI::Range(2, 6))
+      ->capture_default_str();
+  cmd->add_option("--peak-zoom", opts->peak_zoom,
+                  "after the last level, refine the rims this many more halvings about the candidates of the rim "
+                  "peak (within 2 of the finest level's edge lengths) and solve again, so that the conforming peak "
+                  "converges (0: the levels' rim peaks only)")
+      ->check(CLI::Range(0, 4))
+      ->capture_default_str();
   cmd->add_option("--max-faces", opts->max_faces,
-                  "solve no conforming level above this many triangles (the first is solved whatever its size)")
+                  "solve no conforming level above this many triangles (the first is solved whatever its size; "
+                  "about 6 kB of memory each)")
       ->check(CLI::Range(1, 100'000'000))
       ->capture_default_str();
   cmd->add_option("--grading-depth", opts->grading_depth,

@@ -197,6 +197,19 @@ double longest_edge(const Mesh& m, Mesh::Face_index f) {
   return std::sqrt(longest);
 }
 
+/// Adds `rings` rings of faces (sharing a vertex) around the selected ones.
+void add_rings(const Mesh& m, std::vector<bool>& selected, int rings) {
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<bool> touched(m.number_of_vertices(), false);
+    for (const auto f : m.faces())
+      if (selected[f.idx()])
+        for (const auto v : m.vertices_around_face(m.halfedge(f))) touched[v.idx()] = true;
+    for (const auto f : m.faces())
+      for (const auto v : m.vertices_around_face(m.halfedge(f)))
+        if (touched[v.idx()]) selected[f.idx()] = true;
+  }
+}
+
 /// The faces one grading pass refines (header: thin material, or a tight inward turn of the
 /// outline, plus `rings` rings): `width` is elements_across × the pass's threshold size.
 std::vector<bool> faces_to_grade(const Mesh& m, double width, int rings) {
@@ -248,14 +261,31 @@ std::vector<bool> faces_to_grade(const Mesh& m, double width, int rings) {
     for (const auto f : m.faces_around_target(m.opposite(h)))
       if (f != Mesh::null_face()) selected[f.idx()] = true;
   }
-  for (int ring = 0; ring < rings; ++ring) {
-    std::vector<bool> touched(m.number_of_vertices(), false);
-    for (const auto f : m.faces())
-      if (selected[f.idx()])
-        for (const auto v : m.vertices_around_face(m.halfedge(f))) touched[v.idx()] = true;
-    for (const auto f : m.faces())
-      for (const auto v : m.vertices_around_face(m.halfedge(f)))
-        if (touched[v.idx()]) selected[f.idx()] = true;
+  add_rings(m, selected, rings);
+  return selected;
+}
+
+/// The faces one focus pass refines to `size` (header, GradingOptions::focus): those with a
+/// centroid within `radius` of a centre whose longest edge the remeshing would split (over 4/3
+/// size), plus `rings` rings; then every face already as fine as `size` (mean edge below it) is
+/// taken out again, so the pass never coarsens what an earlier one refined.
+std::vector<bool> faces_to_focus(const Mesh& m, const std::vector<Vec3>& centres, double radius, double size,
+                                 int rings) {
+  std::vector<bool> selected(m.number_of_faces(), false);
+  for (const auto f : m.faces()) {
+    const Point c = face_centroid(m, f);
+    const bool near = std::any_of(centres.begin(), centres.end(), [&](const Vec3& x) {
+      return CGAL::squared_distance(c, Point(x.x(), x.y(), x.z())) <= radius * radius;
+    });
+    selected[f.idx()] = near && longest_edge(m, f) > 4.0 / 3.0 * size;
+  }
+  add_rings(m, selected, rings);
+  for (const auto f : m.faces()) {
+    if (!selected[f.idx()]) continue;
+    double sum = 0;
+    for (const auto h : m.halfedges_around_face(m.halfedge(f)))
+      sum += std::sqrt((m.point(m.target(h)) - m.point(m.source(h))).squared_length());
+    if (sum / 3 < size) selected[f.idx()] = false;
   }
   return selected;
 }
@@ -315,6 +345,9 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
       !(options.grading.feature_scale > 0) || options.grading.rings < 0)
     throw InputError("remeshing: grading needs a depth in [0, 8], positive elements across and feature scale, and "
                      "rings >= 0");
+  if (options.grading.focus_depth < 0 || options.grading.depth + options.grading.focus_depth > 10 ||
+      (!options.grading.focus.empty() && !(options.grading.focus_radius > 0)))
+    throw InputError("remeshing: a focus needs a depth >= 0 (at most 10 halvings in all) and a positive radius");
   Mesh m = to_cgal(vertices, faces);
   auto corner = m.add_property_map<VertexIndex, bool>("v:corner", false).first;
   RemeshedMesh out;
@@ -335,7 +368,7 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
                                .protect_constraints(true));
   m.collect_garbage();
   // Grading: refine where the material is narrow or the outline tight (header).
-  if (options.grading.depth > 0) {
+  if (options.grading.depth > 0 || (!options.grading.focus.empty() && options.grading.focus_depth > 0)) {
     const Mesh input = to_cgal(vertices, faces);
     SurfaceTree surface(CGAL::faces(input).first, CGAL::faces(input).second, input);
     surface.accelerate_distance_queries();
@@ -351,6 +384,16 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
           faces_to_grade(m, g.elements_across * g.feature_scale * current, g.rings);
       if (std::find(selected.begin(), selected.end(), true) == selected.end()) break;
       out.graded_faces.push_back(refine_region(m, selected, 0.5 * current, options, corner, surface, outline));
+    }
+    // Focus: halving passes about the centres down to L/2^(depth + focus_depth), each pass's ball
+    // a little wider than the next so that sizes change by at most 2 between neighbours.
+    const int total = g.depth + g.focus_depth;
+    for (int pass = 1; !g.focus.empty() && g.focus_depth > 0 && pass <= total; ++pass) {
+      const double size = L / double(1 << pass);
+      const double radius = g.focus_radius * (1.0 + 0.5 * double(total - pass));
+      const std::vector<bool> selected = faces_to_focus(m, g.focus, radius, size, g.rings);
+      if (std::find(selected.begin(), selected.end(), true) == selected.end()) continue;
+      out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline));
     }
   }
   // Caps and needles left beside the protected outline (a valence flip across two collinear

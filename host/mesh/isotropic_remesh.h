@@ -54,6 +54,15 @@ struct GradingOptions {
   double elements_across = 3;    ///< triangles across the narrowest ligament and a hole's diameter
   double feature_scale = 1;      ///< thresholds in units of feature_scale × L (see the file comment)
   int rings = 2;                 ///< rings of faces added around the selected ones
+  /// Focus (the conforming verification's peak zoom): after the grading passes, halving passes
+  /// k = 1 … depth + focus_depth refine the faces within radius_k of any centre to L/2^k, where
+  /// radius_k = focus_radius (1 + (depth + focus_depth − k)/2) shrinks to focus_radius on the last
+  /// pass. A pass takes the faces its remeshing would split (longest edge over 4/3 of the size)
+  /// plus `rings` rings, less the faces already as fine (mean edge below the size), so nothing an
+  /// earlier pass refined is coarsened. Outside the widest ball the mesh is the one without focus.
+  std::vector<Vec3> focus;       ///< centres, m (empty: no focus)
+  double focus_radius = 0;       ///< m
+  int focus_depth = 0;           ///< halvings beyond `depth` within focus_radius
 };
 
 struct RemeshOptions {
@@ -78,6 +87,7 @@ struct RemeshedMesh {
   int collapsed_boundary_edges = 0;  ///< step 1
   int repaired_faces = 0;            ///< step 4: flat faces fewer after the repair
   std::vector<int> graded_faces;     ///< faces selected by each grading pass (before it remeshed them)
+  std::vector<int> focused_faces;    ///< the same for each focus pass that selected any
 };
 
 /// Remeshes (V, F) (#V×3, #F×3 consistently oriented, edge-manifold; unreferenced vertices are

@@ -61,7 +61,7 @@ const std::vector<Entry>& entries() {
        nullptr, R"json({
   "mesh": {"generator": "table", "edge_length": 0.035, "sim_edge_length": 0.04},
   )json" CUTWORK_PLYWOOD R"json(,
-  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 0.001}}}],
+  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "area", "force": [0, 0, -1500], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "circle", "kind": "circle"}],
   "pattern": {"objective": "exemplar", "exemplar": "circles", "s": 0.0, "r_N": 0.3, "seed": 1, "count": 462},

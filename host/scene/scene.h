@@ -219,8 +219,14 @@ SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& f
 
 /// The largest relative difference between two extents' area, length and point count (each
 /// |a − b| / max(a, b), 0 where both are 0). Areas are compared against at least
-/// edge_length × length, the area a line support's outline can differ by between meshes.
+/// edge_length × length, the area a line support's outline can differ by between meshes. Points
+/// beside a line or an area count as edge_length² of area each; only where both extents are
+/// points alone is their number compared.
 double support_extent_change(const SupportExtent& a, const SupportExtent& b, double edge_length);
+
+/// The largest support_extent_change between meshes of one surface under which the supports count
+/// as holding the same region (the discretisation estimate's and the conforming verification's).
+inline constexpr double kSupportExtentTolerance = 0.01;
 
 /// Indices of the entities `sel` selects on `mesh` (vertex, edge or face indices by entity).
 /// Boundary entities are restricted to `outer_boundary` when given (see resolve_load_case; a

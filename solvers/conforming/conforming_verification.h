@@ -20,19 +20,26 @@
 /// boundary vertices or edges pick only the uncut surface's boundary (not the rims of the holes,
 /// which the coarse mesh does not have either).
 ///
-/// Levels: the conforming solve runs at L, L/2, L/4, … until the compliance changes by less than
-/// `tolerance` between two levels (converged), `levels` solves have run, or the next level's mesh
-/// has more than `max_faces` triangles (it is built, then left unsolved; level 0 is solved
-/// whatever its size). With `grading_depth` > 0 every level is graded along the outlines
-/// (isotropic_remesh.h): triangles down to L_k/2^depth where a ligament is narrower, or a hole
-/// smaller, than `elements_across` triangles of the level-0 size; the regions are the same on
-/// every level, so each level's sizes are half the last's everywhere and Richardson's rule
-/// below still applies. The comparison uses
-/// the finest level and the Richardson-extrapolated compliance: with the last three levels
-/// C₁, C₂, C₃ (edge lengths L, L/2, L/4) and d₁ = C₂ − C₁, d₂ = C₃ − C₂ of one sign and shrinking,
-/// the observed order is p = log₂(d₁/d₂) and C∞ = C₃ + d₂/(2^p − 1); with two levels, p = 1 is
-/// assumed (C∞ = 2C₂ − C₁, the slow end); when the differences change sign or grow, C∞ = C_finest.
-/// The error bar is |C∞ − C_finest|, at least the last difference when no order could be observed.
+/// Levels: the conforming solve runs at L, L/2, L/4, … until it has converged, `levels` solves
+/// have run, or the next level's mesh has more than `max_faces` triangles (a level from the third
+/// on is not built when the last growth predicts more, else it is built, then left unsolved; level
+/// 0 is solved whatever its size; kBudgetPredictionMargin). With `grading_depth` > 0 every level is graded along the
+/// outlines (isotropic_remesh.h): triangles down to L_k/2^depth where a ligament is narrower, or a
+/// hole smaller, than `elements_across` triangles of the level-0 size; the regions are the same on
+/// every level, so each level's sizes are half the last's everywhere and Richardson's rule below
+/// still applies. The comparison uses the finest level and the Richardson-extrapolated compliance
+/// (richardson.h): with the last three levels C₁, C₂, C₃ (edge lengths L, L/2, L/4) and
+/// d₁ = C₂ − C₁, d₂ = C₃ − C₂ of one sign and shrinking, the observed order is p = log₂(d₁/d₂) and
+/// C∞ = C₃ + d₂/(2^p − 1), error bar |C∞ − C₃|; when the differences change sign or grow,
+/// C∞ = C_finest and the error bar is the larger of the two; with two levels, p = 1 is assumed
+/// (C∞ = 2C₂ − C₁, error bar |d|).
+///
+/// Converged: at least `min_levels` (3) levels ran, the error bar is within `tolerance` of C∞, and
+/// the supports hold the same region on every level (support_extent within 1% of level 0's).
+/// Two levels that agree are no proof: where the outline's refinement stiffens what the interior's
+/// softens, the two errors cancel. Measured on the plate design: levels from L = 2.4 mm read 8.542,
+/// 8.535 and 8.494 mJ (0.09%, then 0.47%), while a family started at 2L converged monotonically
+/// (8.413, 8.478, 8.490 mJ, p = 2.4) onto the same 8.49.
 /// Loads: self-weight is ρ h g per area of material on both meshes. Area, pressure and edge loads
 /// are integrated over their selector's region on each mesh and carry the coarse mesh's totals on
 /// the conforming one (resolve_load_case's match_totals): the share of a dead load that falls on a
@@ -60,11 +67,24 @@ namespace cutwork::solvers {
 /// The relative change of the conforming peak between two levels under which it counts as settled.
 inline constexpr double kPeakTolerance = 0.05;
 
+/// A level from the third on is not built when the last growth predicts more than this × the face
+/// budget (the prediction was 0.89–1.17× the built level's size on the built-in designs).
+inline constexpr double kBudgetPredictionMargin = 1.25;
+
+/// The peak zoom: about each candidate of the finest level's rim peak (rim_peak_candidates: W at
+/// least kPeakZoomFraction of the peak, at most kPeakZoomCentres, 2 radii apart) the finest level's
+/// mesh is remeshed with its rims halved `peak_zoom` more times within kPeakZoomRadius × its edge
+/// length (GradingOptions::focus), and solved whole again.
+inline constexpr double kPeakZoomRadius = 2.0;
+inline constexpr double kPeakZoomFraction = 0.6;
+inline constexpr int kPeakZoomCentres = 4;
+
 struct ConformingOptions {
   double edge_length = 0;   ///< conforming target edge length L (m) at the coarsest level; > 0
   int levels = 1;           ///< at most this many conforming solves at L, L/2, …; in [1, 6]
-  double tolerance = 0;     ///< stop once |C_k − C_{k−1}| / |C_k| < tolerance (0: run every level)
-  int max_faces = 500'000;  ///< solve no level (but the first) with more triangles than this
+  double tolerance = 0;     ///< converged once the error bar / |C∞| ≤ tolerance (0: run every level)
+  int min_levels = 3;       ///< the fewest levels that count as converged; in [2, 6]
+  int max_faces = 800'000;  ///< solve no level (but the first) with more triangles than this
   int remesh_iterations = 5;
   /// Grading along the outlines (isotropic_remesh.h GradingOptions): each level's mesh is refined
   /// up to this many halvings where the material is narrower, or a hole smaller, than
@@ -73,6 +93,34 @@ struct ConformingOptions {
   int grading_depth = 0;
   double elements_across = 3;
   NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
+  /// Zoom steps about the rim peak after the last level (PeakZoom; 0: none); in [0, 4].
+  int peak_zoom = 0;
+};
+
+/// One step of the peak zoom. Step 0 is the finest level itself.
+struct PeakZoomStep {
+  int faces = 0;
+  double rim_edge_length = 0;  ///< m: the size the rims have within the zoom's radius, L_K / 2^(depth + step)
+  double peak = NAN;           ///< J/m²: the largest non-singular rim W within the radius of a centre
+  Vec3 position = Vec3::Constant(NAN);
+  /// J/m²: the largest non-singular rim W outside the balls (not refined further); a peak that
+  /// moves there is said in the notes.
+  double peak_outside = NAN;
+  double compliance = NAN;     ///< J: of the whole zoomed mesh (the zoom refines too little to move it)
+  double seconds = 0, mesh_seconds = 0;
+};
+
+/// The conforming rim peak refined where it is: the zoom's steps, their Richardson extrapolation
+/// (richardson.h) and the change over the last step against kPeakTolerance. The global mesh is the
+/// finest level's, so the steps converge onto that level's peak with the rims resolved; its own
+/// error is the compliance's.
+struct PeakZoom {
+  std::vector<Vec3> centres;   ///< m
+  double radius = 0;           ///< m
+  std::vector<PeakZoomStep> steps;
+  double extrapolated = NAN, order = NAN, error_bar = NAN;
+  double change = NAN;         ///< |P_last − P_before| / P_last
+  bool converged = false;      ///< change ≤ kPeakTolerance
 };
 
 /// One equilibrium's scalar quantities (material only, see summarize_equilibrium) and its run.
@@ -88,6 +136,8 @@ struct RunQuantities : EquilibriumScalars {
   /// the fraction of triangles with an angle below 10°.
   double min_angle = NAN;
   double slivers = NAN;
+  /// What the scene's supports hold on this level's mesh (conforming levels; host/scene/scene.h).
+  SupportExtent fixed_extent, clamped_extent;
   /// The conforming peak (levels only; NaN for the coarse run), rim_recovery.h: the largest
   /// energy density recovered on the free rims — the holes' outlines and the free border — (J/m²;
   /// NaN without a free rim), leaving out the rim points within the minimum feature of a corner
@@ -117,30 +167,44 @@ struct ConformingVerification {
   Eigen::VectorXd W_on_coarse;         ///< #F_sim: W̄_t (NaN where nothing maps)
   std::vector<bool> compared;          ///< #F_sim: material faces that are compared
   // Convergence of the conforming compliance over the levels (see the file comment).
-  bool converged = false;              ///< the last two levels differ by less than the tolerance
+  bool converged = false;              ///< min_levels ran, the error bar is within the tolerance, supports consistent
+  /// The largest support_extent_change of a level's fixed or clamped vertices from level 0's (area
+  /// against at least the level-0 L × the line's length), and whether it is within
+  /// kSupportExtentTolerance: a selector that catches more of a finer mesh (the table's feet selected
+  /// with "z below 0.001" took the legs' walls up to 1 mm on a mesh of 1 mm near them) makes the
+  /// levels different structures, and their convergence says nothing. Points beside a line or an
+  /// area count as one element of area each (support_extent_change).
+  double support_change = NAN;
+  bool supports_consistent = true;
   std::string stop;                    ///< "tolerance", "levels" (all run) or "budget" (max_faces)
   double last_change = NAN;            ///< |C_k − C_{k−1}| / |C_k| of the last two levels (NaN: one level)
   double extrapolated_compliance = NAN;///< C∞
   double observed_order = NAN;         ///< p (NaN unless three levels converge monotonically)
   double compliance_error_bar = NAN;   ///< |C∞ − C_finest| (see the file comment)
+  double relative_error_bar = NAN;     ///< compliance_error_bar / |C∞|
   double compliance_ratio_extrapolated = NAN;  ///< coarse / C∞
   // Comparison (coarse / conforming, finest level).
   double compliance_ratio = 0, strain_energy_ratio = 0, max_displacement_ratio = 0;
   double W_max_ratio = 0;              ///< coarse W_max / conforming W_max (per conforming face)
   double W_max_on_coarse = 0;          ///< max_t W̄_t over compared faces
+  /// The peak zoom (empty unless options.peak_zoom > 0 and the finest level has a rim peak).
+  PeakZoom zoom;
+  /// The conforming peak the comparison uses: the zoom's last step when it ran, else the finest
+  /// level's rim peak (RunQuantities::peak).
+  double conforming_peak = NAN;
   /// coarse W_peak_max (the rim estimate from the cell problems' concentration factors,
-  /// peak_energy_density.h) / the finest level's conforming peak (RunQuantities::peak, the
-  /// recovered rim peak); NaN when the mechanics carries no concentration samples or the shell
-  /// has no free rim.
+  /// peak_energy_density.h) / conforming_peak; NaN when the mechanics carries no concentration
+  /// samples or the shell has no free rim.
   double W_peak_ratio = NAN;
-  /// The conforming peak between the last two levels: |P_k − P_{k−1}| / P_k (NaN with one level),
-  /// and whether it is within kPeakTolerance. The recovered rim peak converges at first order or
+  /// The conforming peak between the last two levels (between the zoom's last two steps when it
+  /// ran): |P_k − P_{k−1}| / P_k (NaN with one level), and whether it is within kPeakTolerance. The recovered rim peak converges at first order or
   /// better (rim_recovery.h); the largest face W next to a rim does not (it was 1.3–1.8× Goodier's
   /// closed form on every level), so it is no longer the peak. W_peak_ratio means little while the
   /// change is large.
   double peak_change = NAN;
   bool peak_converged = false;
-  /// The conforming peaks over the levels extrapolated as the compliance is (richardson.h; p = 1
+  /// The conforming peaks over the levels (over the zoom's steps when it ran) extrapolated as the
+  /// compliance is (richardson.h; p = 1
   /// assumed with two levels, the slow end): P∞, its observed order and error bar |P∞ − P_finest|,
   /// and coarse W_peak_max / P∞. NaN where a level has no rim peak. Measured on the plate design's
   /// three levels: 1.491, 2.172, 2.335 J/m², p = 2.1, P∞ = 2.39 ± 0.05.

@@ -15,10 +15,6 @@ namespace cutwork::solvers {
 namespace {
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-nlohmann::json extent_json(const SupportExtent& x) {
-  return {{"area", x.area}, {"length", x.length}, {"points", x.points}};
-}
-
 double relative_change(double coarse, double fine) {
   return fine != 0 ? std::abs(coarse - fine) / std::abs(fine) : (coarse == 0 ? 0.0 : INFINITY);
 }
@@ -157,6 +153,10 @@ std::string discretisation_line(const DiscretisationEstimate& e) {
       100 * e.W_max_change);
 }
 
+nlohmann::json support_extent_json(const SupportExtent& x) {
+  return {{"area", x.area}, {"length", x.length}, {"points", x.points}};
+}
+
 nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
   nlohmann::json levels = nlohmann::json::array();
   for (const DiscretisationLevel& l : e.levels)
@@ -166,7 +166,7 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
                       {"strain_energy", l.quantities.strain_energy},
                       {"W_max", l.quantities.W_max},
                       {"max_displacement", l.quantities.max_displacement},
-                      {"supports", {{"fixed", extent_json(l.fixed)}, {"clamped", extent_json(l.clamped)}}}});
+                      {"supports", {{"fixed", support_extent_json(l.fixed)}, {"clamped", support_extent_json(l.clamped)}}}});
   return {{"method", e.method},
           {"levels", levels},
           {"compliance_extrapolated", number_or_null(e.compliance.extrapolated)},

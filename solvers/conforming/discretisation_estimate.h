@@ -49,7 +49,7 @@ struct DiscretisationOptions {
   int refinements = 2;         ///< h/2, h/4 (1: h/2 only)
   int max_faces = 250'000;     ///< leave out a refinement with more triangles than this
   double tolerance = kDiscretisationTolerance;
-  double support_tolerance = 0.01;  ///< largest relative change of the supports' extent
+  double support_tolerance = kSupportExtentTolerance;  ///< largest relative change of the supports' extent
   NewtonSettings newton;
 };
 
@@ -88,7 +88,7 @@ struct DiscretisationEstimate {
   double max_displacement_change = NAN;     ///< the same for the largest displacement
   double support_change = NAN;              ///< largest support_extent_change of a level from h
   double tolerance = kDiscretisationTolerance;
-  double support_tolerance = 0.01;
+  double support_tolerance = kSupportExtentTolerance;
   bool supports_consistent = false;         ///< support_change ≤ support_tolerance
   bool converged = false;                   ///< estimated_error ≤ tolerance and supports_consistent
 };
@@ -112,6 +112,9 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, const std::ve
 /// to h/2, tolerance, converged and a one-line `summary` (no times: the report's timings hold
 /// them, so that two runs of one design give the same object).
 nlohmann::json discretisation_json(const DiscretisationEstimate& e);
+
+/// {"area", "length", "points"} of a support extent (report.json).
+nlohmann::json support_extent_json(const SupportExtent& x);
 
 /// One line for a person: the compliance at h and its estimated discretisation error.
 std::string discretisation_line(const DiscretisationEstimate& e);

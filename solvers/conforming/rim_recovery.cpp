@@ -130,16 +130,23 @@ void smooth_along_runs(std::vector<RimPoint>& rim, const Runs& runs) {
   }
 }
 
+/// Degrees a boundary vertex turns by at least to count as one of the outline's own vertices: a
+/// remeshed vertex on a straight outline segment turns by round-off (or, on a curved shell, by the
+/// angle defect of its faces, 0.006° at 1 mm on the bowl).
+constexpr double kOutlineTurn = 0.05;
+
 }  // namespace
 
 std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, const RimRecoveryOptions& o) {
   if (!(o.patch_radius > 0) || !std::isfinite(o.patch_radius) || !(o.nodes_per_coefficient >= 1.5) ||
       !(o.nodes_per_coefficient <= 10) || o.degree < 2 || o.degree > 4 ||
       !(o.corner_angle > 0) || !(o.corner_angle < 180) || !(o.corner_radius >= 0) ||
-      !std::isfinite(o.corner_radius) || !(o.support_radius >= 0) || !std::isfinite(o.support_radius))
+      !std::isfinite(o.corner_radius) || !(o.support_radius >= 0) || !std::isfinite(o.support_radius) ||
+      !(o.outline_radius >= 0) || !(o.outline_radius <= 4))
     throw InputError(fmt::format("rim recovery: bad options (patch radius {}, degree {}, corner angle {}°, "
-                                 "singular radii {} m at corners, {} m at supports)",
-                                 o.patch_radius, o.degree, o.corner_angle, o.corner_radius, o.support_radius));
+                                 "singular radii {} m at corners, {} m at supports, outline radius {})",
+                                 o.patch_radius, o.degree, o.corner_angle, o.corner_radius, o.support_radius,
+                                 o.outline_radius));
   const SurfaceMesh& mesh = model.mesh();
   const RowMatX3d& X = mesh.vertices();
   const RowMatX3i& F = mesh.faces();
@@ -151,6 +158,7 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
   // singular corners (any boundary vertex, supported or not, turning into the material).
   struct Slot {
     int vertex, prev, next;
+    double outline_segment;  // m: the outline's own segment length about the vertex (0: none)
   };
   std::vector<Slot> slots;
   std::vector<Vec3> corners, support_ends;
@@ -172,6 +180,35 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
       if (!o.corners && angle[i] > 180 + o.corner_angle) corners.push_back(X.row(loop[i]).transpose());
       breaks[i] = model.fixed()[std::size_t(loop[i])] || std::abs(angle[i] - 180) > o.corner_angle;
     }
+    // The outline's own segments: a smooth outline (a circle, an arch) comes as a polygon whose
+    // vertices turn by a little (outline vertices: between kOutlineTurn and corner_angle degrees);
+    // remeshing finer puts straight-line vertices between them. Each vertex gets the arc length
+    // between the outline vertices on either side of it (the mean of its two segments when it is
+    // one), or 0 where either of them is a corner, a support or there are none.
+    std::vector<double> arc(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i) arc[i + 1] = arc[i] + (X.row(loop[(i + 1) % n]) - X.row(loop[i])).norm();
+    auto turning = [&](std::size_t i) { return std::abs(angle[i] - 180) > kOutlineTurn || model.fixed()[std::size_t(loop[i])]; };
+    auto smooth_vertex = [&](std::size_t i) {
+      return std::abs(angle[i] - 180) <= o.corner_angle && !model.fixed()[std::size_t(loop[i])];
+    };
+    std::vector<std::size_t> turns;
+    for (std::size_t i = 0; i < n; ++i)
+      if (turning(i)) turns.push_back(i);
+    std::vector<double> segment(n, 0.0);
+    if (turns.size() >= 3) {
+      const double perimeter = arc[n];
+      for (std::size_t i = 0; i < n; ++i) {
+        // The turning vertices before and after i (cyclically, i itself left out).
+        const auto after = std::upper_bound(turns.begin(), turns.end(), i);
+        const std::size_t b = after == turns.end() ? turns.front() : *after;
+        auto before = std::lower_bound(turns.begin(), turns.end(), i);
+        const std::size_t a = before == turns.begin() ? turns.back() : *(--before);
+        if (!smooth_vertex(a) || !smooth_vertex(b) || (turning(i) && !smooth_vertex(i))) continue;
+        double span = arc[b] - arc[a];
+        if (span <= 0) span += perimeter;
+        segment[i] = turning(i) ? 0.5 * span : span;
+      }
+    }
     // Where a support ends along the rim (a clamp's or a pin's last vertex next to a free one).
     for (std::size_t i = 0; i < n; ++i)
       if (model.fixed()[std::size_t(loop[i])] && (!model.fixed()[std::size_t(loop[(i + 1) % n])] ||
@@ -189,7 +226,7 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
       if (breaks[i] && !runs.back().slots.empty()) runs.push_back({});
       if (model.fixed()[std::size_t(v)]) continue;
       runs.back().slots.push_back(int(slots.size()));
-      slots.push_back({v, loop[(i + n - 1) % n], loop[(i + 1) % n]});
+      slots.push_back({v, loop[(i + n - 1) % n], loop[(i + 1) % n], segment[i]});
       angles.push_back(angle[i]);
       if (breaks[i]) runs.push_back({});  // a corner stands alone: its two sides differ
     }
@@ -229,7 +266,7 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
             mean_edge += (X.row(F(f, k)) - X.row(v)).norm();
             ++edges;
           }
-      double r = o.patch_radius * mean_edge / std::max(edges, 1);
+      double r = std::max(o.patch_radius * mean_edge / std::max(edges, 1), o.outline_radius * slot.outline_segment);
       for (int attempt = 0;; ++attempt) {
         gather_nodes(v, r, X, F, vf, s);
         if (int(s.nodes.size()) >= wanted || attempt == 8) break;
@@ -294,38 +331,111 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
   return rim;
 }
 
-std::vector<Vec3> singular_corners(const RowMatX3d& V, const RowMatX3i& F, double corner_angle) {
+std::vector<Vec3> singular_corners(const RowMatX3d& V, const RowMatX3i& F, double corner_angle, double window) {
   const VertexFaces vf(int(V.rows()), F);
-  // Boundary vertices: on an edge used by one face.
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(std::size_t(3 * F.rows()));
+  // Boundary halfedges: a face's edge a → b whose twin b → a no face has.
+  std::vector<std::pair<int, int>> halfedges;
+  halfedges.reserve(std::size_t(3 * F.rows()));
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) edges.push_back(std::minmax(F(f, k), F(f, (k + 1) % 3)));
-  std::sort(edges.begin(), edges.end());
-  std::vector<char> boundary(std::size_t(V.rows()), 0);
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) boundary[std::size_t(edges[i].first)] = boundary[std::size_t(edges[i].second)] = 1;
-    i = j;
+    for (int k = 0; k < 3; ++k) halfedges.emplace_back(F(f, k), F(f, (k + 1) % 3));
+  std::vector<std::pair<int, int>> sorted = halfedges;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t nv = std::size_t(V.rows());
+  std::vector<int> next(nv, -1), outgoing(nv, 0);
+  std::vector<char> boundary(nv, 0);
+  for (const auto& [a, b] : halfedges)
+    if (!std::binary_search(sorted.begin(), sorted.end(), std::make_pair(b, a))) {
+      boundary[std::size_t(a)] = boundary[std::size_t(b)] = 1;
+      next[std::size_t(a)] = b;
+      ++outgoing[std::size_t(a)];
+    }
+  // The turn into the material at each boundary vertex (degrees; the sum of its face angles − 180°).
+  std::vector<double> turn(nv, 0.0);
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!boundary[v]) continue;
+    double angle = 0;
+    for (int f : vf.of(int(v))) angle += angle_at(V, F, f, int(v));
+    turn[v] = angle * 180 / std::numbers::pi - 180;
+  }
+  std::vector<char> corner(nv, 0);
+  for (std::size_t v = 0; v < nv; ++v) corner[v] = boundary[v] && turn[v] > corner_angle;
+  // The turns within `window` of arc summed along each simple boundary loop (a corner cut as a few
+  // small turns close together is one corner; a vertex with two outgoing boundary edges is left
+  // to its own turn).
+  std::vector<char> walked(nv, 0);
+  for (std::size_t start = 0; window > 0 && start < nv; ++start) {
+    if (!boundary[start] || walked[start] || outgoing[start] != 1) continue;
+    std::vector<int> loop;
+    int v = int(start);
+    bool simple = true;
+    while (!walked[std::size_t(v)]) {
+      walked[std::size_t(v)] = 1;
+      loop.push_back(v);
+      if (outgoing[std::size_t(v)] != 1) {
+        simple = false;
+        break;
+      }
+      v = next[std::size_t(v)];
+    }
+    if (!simple || v != int(start) || loop.size() < 3) continue;
+    const std::size_t n = loop.size();
+    std::vector<double> arc(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i) arc[i + 1] = arc[i] + (V.row(loop[(i + 1) % n]) - V.row(loop[i])).norm();
+    const double perimeter = arc[n];
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = turn[std::size_t(loop[i])];
+      for (std::size_t k = 1; k < n; ++k) {  // ahead
+        const std::size_t j = (i + k) % n;
+        double d = arc[j] - arc[i];
+        if (d < 0) d += perimeter;
+        if (d > 0.5 * window) break;
+        sum += turn[std::size_t(loop[j])];
+      }
+      for (std::size_t k = 1; k < n; ++k) {  // behind
+        const std::size_t j = (i + n - k) % n;
+        double d = arc[i] - arc[j];
+        if (d < 0) d += perimeter;
+        if (d > 0.5 * window) break;
+        sum += turn[std::size_t(loop[j])];
+      }
+      if (sum > corner_angle) corner[std::size_t(loop[i])] = 1;
+    }
   }
   std::vector<Vec3> out;
-  for (int v = 0; v < int(V.rows()); ++v) {
-    if (!boundary[std::size_t(v)]) continue;
-    double angle = 0;
-    for (int f : vf.of(v)) angle += angle_at(V, F, f, v);
-    if (angle * 180 / std::numbers::pi > 180 + corner_angle) out.push_back(V.row(v).transpose());
+  for (std::size_t v = 0; v < nv; ++v)
+    if (corner[v]) out.push_back(V.row(Eigen::Index(v)).transpose());
+  return out;
+}
+
+RimPeak rim_peak(const std::vector<RimPoint>& rim) { return rim_peak_near(rim, {}, INFINITY); }
+
+RimPeak rim_peak_near(const std::vector<RimPoint>& rim, const std::vector<Vec3>& centres, double radius) {
+  RimPeak out;
+  for (std::size_t i = 0; i < rim.size(); ++i) {
+    if (rim[i].singular || !(out.index < 0 || rim[i].energy_density > out.energy_density)) continue;
+    const bool near = centres.empty() || std::any_of(centres.begin(), centres.end(), [&](const Vec3& c) {
+                        return (rim[i].position - c).norm() <= radius;
+                      });
+    if (!near) continue;
+    out.energy_density = rim[i].energy_density;
+    out.index = int(i);
   }
   return out;
 }
 
-RimPeak rim_peak(const std::vector<RimPoint>& rim) {
-  RimPeak out;
+std::vector<Vec3> rim_peak_candidates(const std::vector<RimPoint>& rim, double fraction, double separation, int count) {
+  std::vector<std::size_t> order;
   for (std::size_t i = 0; i < rim.size(); ++i)
-    if (!rim[i].singular && (out.index < 0 || rim[i].energy_density > out.energy_density)) {
-      out.energy_density = rim[i].energy_density;
-      out.index = int(i);
-    }
+    if (!rim[i].singular) order.push_back(i);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return rim[a].energy_density > rim[b].energy_density; });
+  std::vector<Vec3> out;
+  for (const std::size_t i : order) {
+    if (int(out.size()) >= count || rim[i].energy_density < fraction * rim[order.front()].energy_density) break;
+    const bool apart = std::all_of(out.begin(), out.end(),
+                                   [&](const Vec3& c) { return (rim[i].position - c).norm() > separation; });
+    if (apart) out.push_back(rim[i].position);
+  }
   return out;
 }
 

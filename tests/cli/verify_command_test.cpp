@@ -65,7 +65,16 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   // smallest angle and its share of slivers.
   EXPECT_EQ(report["options"]["grading_depth"], 2);
   EXPECT_EQ(report["options"]["elements_across"], 3.0);
-  EXPECT_EQ(report["options"]["max_faces"], 500000);
+  EXPECT_EQ(report["options"]["max_faces"], 800000);
+  // Converged needs three levels by default and an error bar within the tolerance; the report says
+  // the rule and the error bar relative to C∞.
+  EXPECT_EQ(report["options"]["min_levels"], 3);
+  const auto& conv = report["convergence"];
+  EXPECT_EQ(conv["min_levels"], 3);
+  EXPECT_TRUE(conv["rule"].is_string());
+  EXPECT_NEAR(conv["compliance_relative_error_bar"].get<double>(),
+              conv["compliance_error_bar"].get<double>() / std::abs(conv["compliance_extrapolated"].get<double>()),
+              1e-12);
   EXPECT_EQ(report["units"]["min_angle"], "degree");
   // Three levels, each finer than the last; compliance differences shrink under refinement.
   const auto& levels = report["conforming"]["levels"];
@@ -84,14 +93,23 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
     EXPECT_EQ(level["peak"].get<double>(), level["rim_peak"].get<double>());
     EXPECT_GT(level["interior_peak"].get<double>(), 0.0);
   }
-  EXPECT_EQ(c["W_peak_conforming"].get<double>(), levels[2]["peak"].get<double>());
   EXPECT_TRUE(c["W_peak_conforming_rule"].is_string());
-  // Three levels: the peak extrapolated as the compliance is (richardson.h), its error bar the
-  // distance from the finest level.
-  const double p2 = levels[2]["peak"];
+  // The peak zoom (default two steps) about the finest level's rim peak: step 0 is that level, the
+  // comparison's conforming peak the last step's, extrapolated over the steps (richardson.h).
+  EXPECT_EQ(report["options"]["peak_zoom"], 2);
+  const auto& zoom = report["peak_zoom"];
+  ASSERT_EQ(zoom["steps"].size(), 3u);
+  EXPECT_EQ(zoom["steps"][0]["peak"].get<double>(), levels[2]["peak"].get<double>());
+  EXPECT_GE(zoom["centres"].size(), 1u);
+  for (size_t k = 1; k < 3; ++k)
+    EXPECT_DOUBLE_EQ(zoom["steps"][k]["rim_edge_length"].get<double>(),
+                     0.5 * zoom["steps"][k - 1]["rim_edge_length"].get<double>());
+  const double p2 = zoom["steps"][2]["peak"];
+  EXPECT_EQ(c["W_peak_conforming"].get<double>(), p2);
   const double p_inf = c["W_peak_conforming_extrapolated"], bar = c["W_peak_conforming_error_bar"];
-  EXPECT_NEAR(bar, std::abs(p_inf - p2), 1e-12 * p2);
-  EXPECT_GT(bar, 0.0);
+  EXPECT_EQ(p_inf, zoom["extrapolated"].get<double>());
+  EXPECT_EQ(bar, zoom["error_bar"].get<double>());
+  EXPECT_GE(bar, std::abs(p_inf - p2) * (1 - 1e-12));  // equal when the steps converge monotonically
   EXPECT_TRUE(c.contains("W_peak_ratio_extrapolated"));
   EXPECT_TRUE(report["coarse"]["min_angle"].is_null());
   for (size_t k = 1; k < 3; ++k)
@@ -130,7 +148,7 @@ TEST(CliVerify, HomogenisedStiffnessOnTheSheetWithOneHole) {
   int k = 0;
   for (const char* stiffness : {"linear", "homogenised"}) {
     const fs::path design = sheet_design(dir, stiffness);
-    const auto r = run_cutwork("verify " + design.string() + " --edge-length 0.015 --levels 1 --quiet");
+    const auto r = run_cutwork("verify " + design.string() + " --edge-length 0.015 --levels 1 --peak-zoom 0 --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto report = read_json(design / "verify" / "report.json");
     EXPECT_EQ(report["mechanics"]["stiffness"], stiffness);
