@@ -363,8 +363,9 @@ void add_verify_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--peak-zoom", opts->peak_zoom,
                   "after the last level, refine the rims this many more halvings about the candidates of the rim "
-                  "peak (within 2 of the finest level's edge lengths) and solve again, so that the conforming peak "
-                  "converges (0: the levels' rim peaks only)")
+                  "peak (within 2 of the finest level's edge lengths) and solve again, so that the conforming peak is "
+                  "read where the rims resolve it; its change over the last step is reported (0: the levels' rim "
+                  "peaks only)")
       ->check(CLI::Range(0, 4))
       ->capture_default_str();
   cmd->add_option("--max-faces", opts->max_faces,
