@@ -71,7 +71,7 @@
 /// peak grew 7–8% per halving below 1.5 mm). The shell the polygon stands for has no such corners,
 /// so the patch radius r is at least `outline_radius` (1) × the outline's own segment about the
 /// vertex: the arc length between the outline vertices on either side (vertices turning by more
-/// than 0.05° and less than corner_angle; the mean of the two segments at an outline vertex; none
+/// than 1° and less than corner_angle; the mean of the two segments at an outline vertex; none
 /// where either side ends at a corner or a support). The 16-gon then reads 2.907, 2.935, 2.950 σ∞
 /// (RMS against Kirsch's circle 3.0%, 1.6%, 1.2%) and the sheet's peak settles (0.0626, 0.0630,
 /// 0.0630 J/m² over the peak zoom's steps). Where the mesh is coarser than the outline (the usual
