@@ -81,6 +81,10 @@ json level_json(const solvers::RunQuantities& q) {
                                : json(nullptr);
   j["rim_points"] = q.rim_points;
   j["singular_rim_points"] = q.singular_rim_points;
+  j["corner_peak"] = number_or_null(q.corner_peak);
+  j["corner_peak_position"] = std::isfinite(q.corner_peak)
+                                  ? json{q.corner_peak_position.x(), q.corner_peak_position.y(), q.corner_peak_position.z()}
+                                  : json(nullptr);
   j["interior_peak"] = number_or_null(q.interior_peak);
   j["supports"] = {{"fixed", solvers::support_extent_json(q.fixed_extent)},
                    {"clamped", solvers::support_extent_json(q.clamped_extent)}};

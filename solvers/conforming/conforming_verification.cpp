@@ -185,7 +185,13 @@ LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scen
   run.rim = recover_rim(model, mesh.vertices() + run.u, rim_options);
   const RimPeak rp = rim_peak(run.rim);
   q.rim_points = int(run.rim.size());
-  for (const RimPoint& p : run.rim) q.singular_rim_points += p.singular;
+  for (const RimPoint& p : run.rim) {
+    q.singular_rim_points += p.singular;
+    if (p.at_corner && !(q.corner_peak >= p.energy_density)) {
+      q.corner_peak = p.energy_density;
+      q.corner_peak_position = p.position;
+    }
+  }
   if (rp.index >= 0) {
     q.rim_peak = rp.energy_density;
     q.rim_peak_position = run.rim[std::size_t(rp.index)].position;
@@ -468,6 +474,13 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
 
   // 3. Comparison against the finest level (the peak: against the zoom when it ran).
   const RunQuantities& f = v.levels.back();
+  if (f.corner_peak > f.peak)
+    v.notes.push_back(fmt::format(
+        "rim points within the minimum feature ({:.3g} m) of corners sharper than it, left out of the conforming peak, "
+        "read up to {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m on the finest level, against its peak {:.4g}: where those "
+        "corners are the stencils' own rounds the shell's peak is there, unresolved (W_peak's factors count them)",
+        scene.fabrication.min_feature, f.corner_peak, f.corner_peak_position.x(), f.corner_peak_position.y(),
+        f.corner_peak_position.z(), f.peak));
   const bool zoomed = v.zoom.steps.size() >= 2;
   v.conforming_peak = zoomed ? v.zoom.steps.back().peak : f.peak;
   v.compliance_ratio = ratio(v.coarse.compliance, f.compliance);

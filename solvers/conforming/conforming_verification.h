@@ -149,6 +149,13 @@ struct RunQuantities : EquilibriumScalars {
   double rim_peak = NAN;
   Vec3 rim_peak_position = Vec3::Constant(NAN);
   int rim_points = 0, singular_rim_points = 0;
+  /// What the corner rule left out (J/m²; NaN with no such point), and where: the largest W over
+  /// the rim points within the minimum feature of a singular corner. Where the corners are the
+  /// stencils' own rounds below the minimum feature (a small flower's petals: 0.42 mm radius on the
+  /// bowl), this is where the shell's peak is, unresolved; the cell problems' factors (W_peak) do
+  /// not leave those rounds out.
+  double corner_peak = NAN;
+  Vec3 corner_peak_position = Vec3::Constant(NAN);
   double interior_peak = NAN;
   double peak = NAN;
 };

@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "host/core/error.h"
+#include "solvers/homogenise/free_edge_strain.h"
 
 namespace cutwork::solvers {
 namespace {
@@ -237,8 +238,6 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
   }
 
   const Material& mat = model.material();
-  const double E = mat.youngs_modulus, nu = mat.poisson_ratio, h = mat.thickness;
-  const double D = E * h * h * h / (12 * (1 - nu * nu));
   const int wanted = int(std::ceil(o.nodes_per_coefficient * monomials(o.degree)));
   std::vector<RimPoint> rim(slots.size());
   // One scratch per thread: its mark array is #V long, too long to clear per chunk.
@@ -321,16 +320,16 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
     }
   });
   if (o.smoothing) smooth_along_runs(rim, runs);
-  for (RimPoint& p : rim)
-    p.energy_density = 0.5 * E * h * p.strain * p.strain + 0.5 * D * (1 - nu * nu) * p.curvature * p.curvature +
-                       D * (1 - nu) * p.twist * p.twist;
+  for (RimPoint& p : rim) p.energy_density = free_edge_energy_density(mat, p.strain, p.curvature, p.twist);
   if (o.corners) corners = *o.corners;
   auto near = [](const Vec3& x, const std::vector<Vec3>& points, double radius) {
     return std::any_of(points.begin(), points.end(),
                        [&](const Vec3& c) { return (x - c).norm() <= radius || (x - c).squaredNorm() == 0; });
   };
-  for (RimPoint& p : rim)
-    p.singular = near(p.position, corners, o.corner_radius) || near(p.position, support_ends, o.support_radius);
+  for (RimPoint& p : rim) {
+    p.at_corner = near(p.position, corners, o.corner_radius);
+    p.singular = p.at_corner || near(p.position, support_ends, o.support_radius);
+  }
   return rim;
 }
 

@@ -120,6 +120,7 @@ struct RimPoint {
   double energy_density = 0;     ///< W (J/m²)
   double material_angle = 0;     ///< degrees: the sum of the vertex's face angles
   bool singular = false;         ///< near a corner past corner_angle or a support's end
+  bool at_corner = false;        ///< singular for a corner: within corner_radius of one
   int patch_nodes = 0;           ///< vertices in the fit
   int fit_degree = 0;            ///< the degree the fit used
   double patch_radius = 0;       ///< r of the patch (m)

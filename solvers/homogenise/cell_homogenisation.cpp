@@ -16,6 +16,7 @@
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
 #include "host/stencil/frame.h"
+#include "solvers/conforming/rim_recovery.h"
 #include "solvers/homogenise/free_edge_strain.h"
 #include "solvers/linear/cholmod_solver.h"
 #include "solvers/shell/shell_energy.h"
@@ -33,6 +34,12 @@ constexpr int kCases = 6;
 const double kInscribedRadius = 0.25 * kSqrt3;
 /// Triangles across the narrowest ligament, at least (homogenise_cell raises the resolution).
 constexpr double kLigamentElements = 6;
+/// The tiled cell keeps the copies' faces within max(kTileMargin, kTileMarginEdges target edges) of
+/// the centre rhombus (lattice coordinates): a bending patch reaches one ring, a rim recovery patch
+/// 2.5–5 mean edges.
+constexpr double kTileMargin = 0.1, kTileMarginEdges = 10;
+/// Amplitude of the unit cases' displacements at which the rim is recovered (spacing 1).
+constexpr double kProbe = 1e-6;
 
 Eigen::Matrix3d isotropic_voigt(double factor, double nu) {
   Eigen::Matrix3d C;
@@ -146,10 +153,15 @@ SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int reme
 }
 
 /// The cell tiled 3 × 3 (copies translated by m a₁ + n a₂, m, n ∈ {−1, 0, 1}, welded along the
-/// shared sides), so that every face of the centre copy has its whole bending patch. `period`
-/// receives, per tiled vertex, its periodic class (one per distinct cell vertex modulo the lattice);
-/// `centre_faces` the first face of the centre copy.
-SurfaceMesh tile_cell(const SurfaceMesh& cell, std::vector<int>& period, int& centre_faces, int& classes) {
+/// shared sides), so that every face of the centre copy has its whole bending patch and every rim
+/// point of the centre copy its whole recovery patch; the copies' faces whose centroids lie farther
+/// than `margin` (spacings, in lattice coordinates) outside the centre rhombus are left out (the
+/// centre copy's elements and rim patches reach a few edges; the rest would only cost time).
+/// `period` receives, per tiled vertex, its periodic class (one per distinct cell vertex modulo the
+/// lattice); `rim`, per tiled vertex, whether it lies on a hole's rim (a boundary edge of the cell
+/// that is not along a side); `centre_faces` the first face of the centre copy.
+SurfaceMesh tile_cell(const SurfaceMesh& cell, double margin, std::vector<int>& period, std::vector<bool>& rim,
+                      int& centre_faces, int& classes) {
   const int nv = cell.num_vertices(), nf = cell.num_faces();
   // Lattice coordinates, snapped onto the sides so that copies meet exactly.
   std::vector<Eigen::Vector2d> st(static_cast<size_t>(nv));
@@ -160,16 +172,45 @@ SurfaceMesh tile_cell(const SurfaceMesh& cell, std::vector<int>& period, int& ce
       else if (std::abs(c[k] - 1) < 1e-9) c[k] = 1;
     st[size_t(v)] = c;
   }
+  // The cell's rim vertices: ends of boundary edges not along a side (a side's edge has both ends
+  // on the same side line).
+  std::vector<bool> cell_rim(static_cast<size_t>(nv), false);
+  {
+    std::map<std::pair<int, int>, int> edges;
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = cell.faces()(f, k), b = cell.faces()(f, (k + 1) % 3);
+        ++edges[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto& [e, count] : edges) {
+      if (count != 1) continue;
+      const Eigen::Vector2d &a = st[size_t(e.first)], &b = st[size_t(e.second)];
+      bool side = false;
+      for (int k = 0; k < 2; ++k) side = side || (a[k] == b[k] && (a[k] == 0 || a[k] == 1));
+      if (!side) cell_rim[size_t(e.first)] = cell_rim[size_t(e.second)] = true;
+    }
+  }
   const auto key = [](double s, double t) { return std::pair(std::llround(s * 1e8), std::llround(t * 1e8)); };
   std::map<std::pair<long long, long long>, int> tiled_index, class_index;
   std::vector<Vec3> positions;
   std::vector<Eigen::Vector3i> faces;
   period.clear();
+  rim.clear();
   for (int n = -1; n <= 1; ++n)
     for (int m = -1; m <= 1; ++m) {
       if (m == 0 && n == 0) centre_faces = int(faces.size());
-      std::vector<int> local(static_cast<size_t>(nv));
+      std::vector<int> kept;
+      std::vector<bool> used(static_cast<size_t>(nv), false);
+      for (int f = 0; f < nf; ++f) {
+        Eigen::Vector2d c = Eigen::Vector2d(m, n);
+        for (int k = 0; k < 3; ++k) c += st[size_t(cell.faces()(f, k))] / 3.0;
+        if (c.minCoeff() < -margin || c.maxCoeff() > 1 + margin) continue;
+        kept.push_back(f);
+        for (int k = 0; k < 3; ++k) used[size_t(cell.faces()(f, k))] = true;
+      }
+      std::vector<int> local(static_cast<size_t>(nv), -1);
       for (int v = 0; v < nv; ++v) {
+        if (!used[size_t(v)]) continue;
         const Eigen::Vector2d& c = st[size_t(v)];
         const auto [it, added] = tiled_index.try_emplace(key(c[0] + m, c[1] + n), int(positions.size()));
         if (added) {
@@ -177,10 +218,12 @@ SurfaceMesh tile_cell(const SurfaceMesh& cell, std::vector<int>& period, int& ce
           const double ps = c[0] - std::floor(c[0] + 1e-12), pt = c[1] - std::floor(c[1] + 1e-12);
           const auto [cls, fresh] = class_index.try_emplace(key(ps, pt), int(class_index.size()));
           period.push_back(cls->second);
+          rim.push_back(false);
         }
+        if (cell_rim[size_t(v)]) rim[size_t(it->second)] = true;
         local[size_t(v)] = it->second;
       }
-      for (int f = 0; f < nf; ++f)
+      for (const int f : kept)
         faces.emplace_back(local[size_t(cell.faces()(f, 0))], local[size_t(cell.faces()(f, 1))],
                            local[size_t(cell.faces()(f, 2))]);
     }
@@ -282,13 +325,14 @@ std::vector<std::pair<ConcentrationState, Eigen::Vector3d>> concentration_states
   return states;
 }
 
-/// K of every state (CellStiffness::membrane_states, bending_states) from the solved cell problem:
-/// per face of the centre copy the quadratic form Q_f = Σ_e u_eᵀ K_e u_e of its elements over the
-/// six unit cases (face energy ½ ε̄ᵀ Q_f ε̄), and per rim edge the tangential strain of each unit
-/// membrane case (linear in ε̄).
-void stress_concentration(const SurfaceMesh& cell, const SurfaceMesh& tiled, const std::vector<int>& period,
+/// K of every state (CellStiffness::membrane_states, bending_states) from the solved cell problem
+/// (see "Reading the peak" in cell_homogenisation.h): per face of the centre copy the quadratic form
+/// Q_f = Σ_e u_eᵀ K_e u_e of its elements over the six unit cases (face energy ½ ε̄ᵀ Q_f ε̄), and per
+/// rim point of the centre copy's hole the recovered ε_tt, κ_tt, κ_tm of each unit case
+/// (rim_recovery.h; linear in the case's displacement, read at amplitude kProbe).
+void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, const std::vector<int>& period,
                           int centre, const std::vector<LocalStiffness>& elements, const Eigen::MatrixXd& fluctuation,
-                          const Material& material, double window, CellStiffness& out) {
+                          CellStiffness& out) {
   using Mat6 = Eigen::Matrix<double, kCases, kCases>;
   const int nf = cell.num_faces();
   const auto dof = [](int cls) { return 3 * Eigen::Index(cls - 1); };
@@ -302,44 +346,44 @@ void stress_concentration(const SurfaceMesh& cell, const SurfaceMesh& tiled, con
     Q[size_t(el.face)] += q;
     total += q;
   }
-  // Rim edges of the centre copy's hole and their tangential strain per unit membrane case.
+  // The rim of the whole tiled cell under each unit case, recovered at a small amplitude (the
+  // recovery reads Green–Lagrange strain and the deformed normal: quadratic terms of order kProbe).
+  const SurfaceMesh& tiled = model.mesh();
   const RowMatX3d& X = tiled.vertices();
-  std::vector<std::vector<FreeEdgeStrain>> rim(3);
-  for (int k = 0; k < 3; ++k) {
-    RowMatX3d U(X.rows(), 3);
+  const RimRecoveryOptions ro;
+  std::vector<std::vector<RimPoint>> rim(kCases);
+  for (int k = 0; k < kCases; ++k) {
+    RowMatX3d x(X.rows(), 3);
     for (Eigen::Index v = 0; v < X.rows(); ++v) {
       Vec3 w = macro_displacement(k, X.row(v).transpose());
       const int cls = period[size_t(v)];
       if (cls > 0) w += fluctuation.block<3, 1>(dof(cls), k);
-      U.row(v) = w.transpose();
+      x.row(v) = X.row(v) + kProbe * w.transpose();
     }
-    rim[size_t(k)] = free_edge_strains(X, tiled.faces(), U, centre, nf);
+    rim[size_t(k)] = recover_rim(model, x, ro);
+    if (rim[size_t(k)].size() != rim[0].size()) throw InternalError("cell rim recovery: the rim changed between cases");
   }
-  // Faces next to the rim are left out of the face maxima: the remesher keeps the outline's short
-  // edges, and the thin faces on them report noisy strains (±7% in K on a dilute circle); the rim's
-  // own value comes from its edges, each averaged with its neighbours within half a target edge length
-  // (`window`; Kirsch's rim stress varies over the hole's radius: the average costs ~1% at a = 5/resolution).
-  std::vector<bool> on_rim(size_t(X.rows()), false);
-  for (const FreeEdgeStrain& e : rim[0]) on_rim[size_t(e.a)] = on_rim[size_t(e.b)] = true;
-  std::vector<bool> off_rim(static_cast<size_t>(nf));
+  // The centre copy's rim points (not singular), and per point its unit-case values.
+  std::vector<bool> in_centre(size_t(X.rows()), false);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) in_centre[size_t(tiled.faces()(centre + f, k))] = true;
+  std::vector<size_t> points;
+  for (size_t i = 0; i < rim[0].size(); ++i)
+    if (in_centre[size_t(rim[0][i].vertex)] && !rim[0][i].singular) points.push_back(i);
+  // Faces within a rim point's patch are left to the rim's reading: a face's constant strain (and
+  // its shape-operator curvature) next to a free edge scatters with the faces' shapes (the largest
+  // face W next to a dilute circle's rim read 1.2× Goodier's bending peak, and ±7% on Kirsch's).
+  std::vector<bool> off_rim(size_t(nf), true);
   for (int f = 0; f < nf; ++f) {
-    off_rim[size_t(f)] = true;
-    for (int k = 0; k < 3; ++k) off_rim[size_t(f)] = off_rim[size_t(f)] && !on_rim[size_t(tiled.faces()(centre + f, k))];
+    const Vec3 c = (X.row(tiled.faces()(centre + f, 0)) + X.row(tiled.faces()(centre + f, 1)) +
+                    X.row(tiled.faces()(centre + f, 2))).transpose() / 3.0;
+    for (const RimPoint& p : rim[0])
+      if ((c - p.position).norm() <= p.patch_radius) {
+        off_rim[size_t(f)] = false;
+        break;
+      }
   }
-  const size_t ne = rim[0].size();
-  Eigen::MatrixXd smooth = Eigen::MatrixXd::Zero(Eigen::Index(ne), 3);  // smoothed strain per unit case
-  for (size_t i = 0; i < ne; ++i) {
-    const Vec3 mi = 0.5 * (X.row(rim[0][i].a) + X.row(rim[0][i].b)).transpose();
-    double weight = 0;
-    for (size_t j = 0; j < ne; ++j) {
-      const Vec3 mj = 0.5 * (X.row(rim[0][j].a) + X.row(rim[0][j].b)).transpose();
-      if ((mi - mj).norm() > window) continue;
-      const double L = (X.row(rim[0][j].b) - X.row(rim[0][j].a)).norm();
-      for (int k = 0; k < 3; ++k) smooth(Eigen::Index(i), k) += L * rim[size_t(k)][j].strain;
-      weight += L;
-    }
-    smooth.row(Eigen::Index(i)) /= weight;
-  }
+  const Material& material = model.material();
   const double material_area = cell.face_areas().sum();
   const Eigen::VectorXd& A = cell.face_areas();
   out.membrane_states.clear();
@@ -354,9 +398,17 @@ void stress_concentration(const SurfaceMesh& cell, const SurfaceMesh& tiled, con
       double peak = 0;
       for (int f = 0; f < nf; ++f)
         if (off_rim[size_t(f)]) peak = std::max(peak, 0.5 * e.dot(Q[size_t(f)].block<3, 3>(o, o) * e) / A[f]);
-      if (part == 0)
-        for (size_t i = 0; i < ne; ++i)
-          peak = std::max(peak, free_edge_energy_density(material, smooth.row(Eigen::Index(i)).dot(e)));
+      for (const size_t i : points) {
+        double strain = 0, curvature = 0, twist = 0;
+        for (int k = 0; k < 3; ++k) {
+          const RimPoint& p = rim[size_t(o + k)][i];
+          strain += e[k] * p.strain, curvature += e[k] * p.curvature, twist += e[k] * p.twist;
+        }
+        // Only the part's own quantities: a flat cell's membrane cases do not bend its rim, nor its
+        // bending cases stretch it (both to order kProbe).
+        peak = std::max(peak, part == 0 ? free_edge_energy_density(material, strain / kProbe)
+                                        : free_edge_energy_density(material, 0, curvature / kProbe, twist / kProbe));
+      }
       state.factor = peak / mean;
       (part == 0 ? out.membrane_states : out.bending_states).push_back(state);
       double& K = part == 0 ? out.membrane_concentration : out.bending_concentration;
@@ -394,6 +446,8 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
                               const CellOptions& options) {
   if (!(options.resolution >= 6 && options.resolution <= 200))
     throw InputError("homogenisation: the cell resolution must be in [6, 200] edges per lattice spacing");
+  if (!(options.rim_edges >= 0 && options.rim_edges <= 64))
+    throw InputError("homogenisation: rim_edges must be in [0, 64] edges per stencil bounding radius");
   const double lowest = 1 - max_hole_fraction(shape);
   if (!(fill_ratio >= lowest && fill_ratio <= 1))
     throw InputError(fmt::format("homogenisation: fill ratio {} of stencil '{}' outside [{:.3f}, 1] (the hole would "
@@ -406,7 +460,8 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   // kLigamentElements triangles across: the bending factor and its peak are otherwise too coarse
   // where holes nearly touch (circles at α = 0.30: g_b 0.173 and K_b 22 at 24 edges per spacing,
   // 0.200 and 7.9 at 48, with g_b and K_b smooth and monotone in α at 48 and jumping at 24).
-  const double resolution = std::min(200.0, std::max(options.resolution, kLigamentElements / (1 - 2 * out.scale)));
+  const double resolution =
+      std::min(200.0, std::max({options.resolution, kLigamentElements / (1 - 2 * out.scale), out.scale > 0 ? options.rim_edges / out.scale : 0.0}));
   out.resolution = resolution;
   const SurfaceMesh cell = period_cell(shape, out.scale, int(std::lround(resolution)), options.remesh_iterations);
   out.vertices = cell.num_vertices();
@@ -414,12 +469,15 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   out.window_fill_ratio = cell.face_areas().sum() / kCellArea;
 
   std::vector<int> period;
+  std::vector<bool> rim;
   int centre = 0, classes = 0;
-  const SurfaceMesh tiled = tile_cell(cell, period, centre, classes);
+  const SurfaceMesh tiled = tile_cell(cell, std::max(kTileMargin, kTileMarginEdges / resolution), period, rim, centre, classes);
   // The shell on the tiled cell: its outer boundary pinned only to satisfy the model's checks (the
-  // centre copy's elements, the only ones used, reach one ring of faces into the neighbours).
+  // centre copy's elements and rim patches, the only ones used, stay a margin away from it); the
+  // holes' rims are free, for the rim recovery.
   LoadCase lc;
   lc.fixed = tiled.is_boundary_vertex();
+  for (size_t v = 0; v < lc.fixed.size(); ++v) lc.fixed[v] = lc.fixed[v] && !rim[v];
   lc.clamped.assign(size_t(tiled.num_vertices()), false);
   lc.gravity = Vec3(0, 0, -9.81);
   const ShellModel model(tiled, material, lc, MechanicsSettings{});
@@ -455,7 +513,7 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   const Eigen::Vector2d b = isotropic_moduli(out.bending), b0 = isotropic_moduli(solid_bending_stiffness(material));
   out.membrane_bulk_factor = m[0] / m0[0], out.membrane_shear_factor = m[1] / m0[1];
   out.bending_bulk_factor = b[0] / b0[0], out.bending_shear_factor = b[1] / b0[1];
-  stress_concentration(cell, tiled, period, centre, elements, fluctuation, material, 0.5 / resolution, out);
+  stress_concentration(cell, model, period, centre, elements, fluctuation, out);
   return out;
 }
 

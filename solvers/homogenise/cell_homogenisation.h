@@ -49,6 +49,9 @@ struct CellOptions {
   /// triangles across.
   double resolution = 24;
   int remesh_iterations = 5;
+  /// Target edges per stencil bounding radius, at least, in [0, 64]: the resolution is raised (up to
+  /// 200 per spacing) so that the rim recovery resolves the hole ("Reading the peak" below). 0: off.
+  double rim_edges = 16;
 };
 
 /// Stress concentration in one macroscopic state of the cell (issue 21 item 5). A state is a
@@ -58,15 +61,40 @@ struct CellOptions {
 /// (σ̄ = n⊗n, n = (cos θ, sin θ)); equibiaxial (σ̄ = 1); pure shear with principal axes at θ = 0°,
 /// 22.5°, 45°, 67.5° (σ̄ = n⊗n − m⊗m, m ⊥ n). K = W_peak / W_mean, where
 ///   W_mean = ½ ε̄ᵀ C* ε̄ / window_fill_ratio: the cell's energy per area of its material;
-///   W_peak (membrane) = the larger of the faces' energy densities (CST: constant per face; faces
-///     with a vertex on the rim left out, their thin shapes make them noisy) and the rim's, recovered
-///     along the hole's boundary edges (free_edge_strain.h: σ_tt = E ε_tt), each edge's strain
-///     averaged with its neighbours' within half a target edge length, 0.5/resolution;
-///   W_peak (bending) = the largest face energy density of the shape-operator elements off the rim
-///     (no rim recovery: a lower bound, one face away from the rim, that grows under refinement).
-/// Dilute circular holes in plane elasticity (Kirsch): uniaxial K → 9, equibiaxial 2/(1 − ν), pure
-/// shear 8/(1 + ν). K of a polygon with sharp re-entrant corners grows without bound under
-/// refinement (the corner is singular); the cell's mesh size then acts as the corner's radius.
+///   W_peak = the larger of the rim's energy density and the faces' away from the rim.
+///
+/// Reading the peak. The rim is read by the rim recovery of the conforming verification
+/// (solvers/conforming/rim_recovery.h: per free rim vertex a least-squares cubic of the nodal
+/// displacements over a patch, ε_tt, κ_tt, κ_tm at the rim, smoothed along it), run on the tiled
+/// cell under each of the six unit cases; a state's rim values are the cases' combined with ε̄
+/// (the recovery is linear in the displacement at the small amplitude it is read at), and its W is
+/// the free edge's (free_edge_strain.h: ½ E h ε_tt² for the membrane part, ½ D (1 − ν²) κ_tt² +
+/// D (1 − ν) κ_tm² for the bending part). Faces within a rim point's patch are left to the rim:
+/// their constant strains and shape-operator curvatures next to a free edge scatter with the faces'
+/// shapes (the largest such face read Goodier's bending peak 1.2× on a dilute circle, and it
+/// jumped between neighbouring α). The cell is meshed with at least `rim_edges` (16) target edges
+/// per stencil bounding radius: the recovery's rim peak converges from below as the rim is refined
+/// (circle at α = 0.95, 8 / 16 / 24 edges per radius: membrane uniaxial 7.75 / 8.08 / 8.11,
+/// bending uniaxial 3.04 / 3.17 / 3.28, means over θ).
+///
+/// Closed forms (dilute circle, α = 0.99, ν = 0.4; the test StressConcentration.DiluteCircleMatches…):
+///  - membrane, Kirsch: uniaxial 9, equibiaxial 2/(1 − ν), pure shear 8/(1 + ν);
+///  - bending, Goodier (Kirchhoff plate, free hole; M_nn = 0 and the Kirchhoff shear vanish at
+///    the rim, M_nt does not): uniaxial ((5 + 3ν)/(3 + ν))², at the rim where M_tt peaks;
+///    equibiaxial 2/(1 − ν) (M_tt = 2M); pure shear 16/(3 + ν)², at 45° to the principal axes where
+///    the rim's twist peaks (M_tt peaks at 8(1 + ν)/(3 + ν)² of the far field's W there).
+/// Measured at 10.5 edges per radius (the resolution cap): membrane 8.53, 3.28, 5.38 (−5.2%,
+/// −1.7%, −5.8%); bending 3.25, 3.27, 1.39 (−2.3%, −1.7%, +0.5%). The face-based bending reading it
+/// replaces read 3.99 there (+20%) and 2.88 at α = 0.9 (on 4 edges per radius).
+///
+/// Singular corners. A polygon with sharp corners turning into the material (a star's tips) has an
+/// unbounded stress there; rim points at corners turning past 30° are left out, and their neighbours
+/// read a peak that grows as the rim is refined (star at α = 0.75, 9 / 16 / 24 edges per radius:
+/// membrane uniaxial 4.6 / 8.5 / 11.8): the rim's resolution, R/16, acts as the tip's radius. A
+/// smooth shape's rounds are not singular and converge (flower at α = 0.75: 12.4 / 15.5 / 16.2 at
+/// 8 / 16 / 24). `cutwork verify` leaves out the rim within the fabrication minimum feature of a
+/// corner (physical: 30° within a quarter of it), which the cell cannot do without the design's
+/// stencil size: that is still open.
 struct ConcentrationState {
   std::string state;   ///< "uniaxial", "equibiaxial" or "shear"
   double angle = 0;    ///< θ (radians from x; 0 for equibiaxial)

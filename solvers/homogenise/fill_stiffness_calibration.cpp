@@ -20,7 +20,7 @@ struct ShapeCurve {
   std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
 };
 
-using CacheKey = std::tuple<std::vector<double>, double, double>;
+using CacheKey = std::tuple<std::vector<double>, double, double, double>;
 
 /// The ratios of one sample, in ShapeCurve's order: membrane, bending, then the split's four.
 using SampleRatios = std::array<double, 6>;
@@ -37,10 +37,16 @@ void push_ratios(ShapeCurve& c, const SampleRatios& r) {
 ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options) {
   const std::vector<double>& grid = calibration_grid();
   const double lowest = 1 - max_hole_fraction(shape);
+  // The cells, one per distinct fill ratio (the grid's points below the lowest one share it). One
+  // after the other: solved concurrently, their factorisations' BLAS threads (set per problem size,
+  // process-wide) raced, and a sweep's variants differed from run to run in the 11th digit.
+  std::vector<double> cut;
+  for (double alpha : grid)
+    if (alpha < 1 && std::find(cut.begin(), cut.end(), std::max(alpha, lowest)) == cut.end())
+      cut.push_back(std::max(alpha, lowest));
+  std::vector<CellStiffness> cells;
+  for (const double a : cut) cells.push_back(homogenise_cell(shape, material, a, options));
   ShapeCurve c;
-  SampleRatios low{};
-  double low_km = 1, low_kb = 1;
-  bool have_low = false;
   for (double alpha : grid) {
     if (alpha >= 1) {
       push_ratios(c, {1, 1, 1, 1, 1, 1});
@@ -49,25 +55,11 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
       c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
       continue;
     }
-    const double a = std::max(alpha, lowest);
-    if (a > alpha && have_low) {
-      push_ratios(c, low);
-      c.membrane_concentration.push_back(low_km);
-      c.bending_concentration.push_back(low_kb);
-      continue;
-    }
-    const CellStiffness cell = homogenise_cell(shape, material, a, options);
+    // Below the lowest fill ratio the lowest sample's values are held.
+    const CellStiffness& cell = cells[std::size_t(std::find(cut.begin(), cut.end(), std::max(alpha, lowest)) - cut.begin())];
     const double w = cell.window_fill_ratio;
-    const SampleRatios r = {cell.membrane_factor / w,      cell.bending_factor / w,
-                            cell.membrane_bulk_factor / w, cell.membrane_shear_factor / w,
-                            cell.bending_bulk_factor / w,  cell.bending_shear_factor / w};
-    if (a > alpha) {
-      low = r;
-      low_km = cell.membrane_concentration;
-      low_kb = cell.bending_concentration;
-      have_low = true;
-    }
-    push_ratios(c, r);
+    push_ratios(c, {cell.membrane_factor / w, cell.bending_factor / w, cell.membrane_bulk_factor / w,
+                    cell.membrane_shear_factor / w, cell.bending_bulk_factor / w, cell.bending_shear_factor / w});
     c.membrane_concentration.push_back(cell.membrane_concentration);
     c.bending_concentration.push_back(cell.bending_concentration);
   }
@@ -110,18 +102,19 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   for (const StencilShape& shape : shapes.shapes()) {
     std::vector<double> polygon;
     for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
-    const CacheKey key{polygon, material.poisson_ratio, options.resolution};
-    ShapeCurve c;
-    {
-      std::unique_lock lock(mutex);
-      auto it = cache.find(key);
-      if (it != cache.end()) c = it->second;
-    }
-    if (c.membrane.empty()) {
-      c = calibrate_shape(shape, canonical_material(material.poisson_ratio), options);
-      std::unique_lock lock(mutex);
-      cache.emplace(key, c);
-    }
+    const CacheKey key{polygon, material.poisson_ratio, options.resolution, options.rim_edges};
+    // One calibration at a time in the process, the cache looked up again under the lock: a
+    // caller that waited finds the curve another computed (a sweep's concurrent variants calibrate
+    // once), and no cell is factorised while another is. Two cell problems of 25k DOFs factorised
+    // at once in two threads of one process (α = 0.9 at 96 edges per spacing) differed in the 14th
+    // digit now and then, and a sweep's variants with them (SweepCommand.LocalAndMpiRunsAgree);
+    // smaller ones (the 24 edges per spacing of the stiffness alone) never did in the runs tried.
+    std::unique_lock lock(mutex);
+    auto it = cache.find(key);
+    if (it == cache.end())
+      it = cache.emplace(key, calibrate_shape(shape, canonical_material(material.poisson_ratio), options)).first;
+    const ShapeCurve c = it->second;
+    lock.unlock();
     for (size_t k = 0; k < grid.size(); ++k) {
       out.membrane[k] += c.membrane[k] / shapes.size();
       out.bending[k] += c.bending[k] / shapes.size();

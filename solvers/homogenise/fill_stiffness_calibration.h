@@ -14,9 +14,12 @@
 /// lowest fill ratio held like the ratios; the α = 1 sample holds the last cut sample's K (the dilute
 /// side held constant; an uncut face's K = 1 is the consumer's rule, peak_energy_density.h).
 ///
-/// Cost: one patch of ~10⁴ triangles cut, remeshed and factorised per shape and sample (about a
-/// second each); results are kept in memory for the process, keyed by shape polygon and ν, so a
-/// sweep or a benchmark pays once.
+/// Cost: one cell of 10³–2·10⁴ triangles cut, remeshed and factorised per shape and sample (0.1–1 s
+/// each, serial; bench/homogenise_benchmark.cpp); results are kept in memory for the process, keyed
+/// by shape polygon, ν and the cell options, so a sweep or a benchmark pays once. One calibration
+/// runs at a time in a process (a lock around the computation and the cache): concurrent callers
+/// wait for the curve instead of computing it again, and two cells are never factorised at once
+/// (that was not reproducible to the last digits, fill_stiffness_calibration.cpp).
 #include <vector>
 
 #include "host/scene/load_case.h"

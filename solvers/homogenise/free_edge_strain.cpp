@@ -28,8 +28,11 @@ std::vector<FreeEdgeStrain> free_edge_strains(const RowMatX3d& X, const RowMatX3
   return out;
 }
 
-double free_edge_energy_density(const Material& m, double strain) {
-  return 0.5 * m.youngs_modulus * m.thickness * strain * strain;
+double free_edge_energy_density(const Material& m, double strain, double curvature, double twist) {
+  const double E = m.youngs_modulus, h = m.thickness, nu = m.poisson_ratio;
+  const double D = E * h * h * h / (12 * (1 - nu * nu));
+  return 0.5 * E * h * strain * strain + 0.5 * D * (1 - nu * nu) * curvature * curvature +
+         D * (1 - nu) * twist * twist;
 }
 
 }  // namespace cutwork::solvers

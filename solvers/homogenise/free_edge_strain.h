@@ -34,7 +34,10 @@ struct FreeEdgeStrain {
 std::vector<FreeEdgeStrain> free_edge_strains(const RowMatX3d& X, const RowMatX3i& F, const RowMatX3d& u,
                                               int first_face = 0, int num_faces = -1);
 
-/// ½ E h ε² (J/m²): the membrane energy density of a free edge with tangential strain ε.
-double free_edge_energy_density(const Material& material, double strain);
+/// The energy density (J/m²) of a free edge with tangential strain ε, normal curvature κ_tt and
+/// twist κ_tm (1/m): ½ E h ε² + ½ D (1 − ν²) κ_tt² + D (1 − ν) κ_tm², D = E h³/(12 (1 − ν²)). A free
+/// edge carries no N_nn, N_nt, M_nn: the stress is uniaxial along it (σ_tt = E ε_tt, M_tt = D (1 − ν²)
+/// κ_tt with κ_nn = −ν κ_tt) and the twist's moment is M_tm = D (1 − ν) κ_tm.
+double free_edge_energy_density(const Material& material, double strain, double curvature = 0, double twist = 0);
 
 }  // namespace cutwork::solvers

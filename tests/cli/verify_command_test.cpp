@@ -92,6 +92,10 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
     EXPECT_EQ(level["rim_peak_position"].size(), 3u);
     EXPECT_EQ(level["peak"].get<double>(), level["rim_peak"].get<double>());
     EXPECT_GT(level["interior_peak"].get<double>(), 0.0);
+    // No corner sharper than the minimum feature (a 64-gon, a rectangle's convex corners): nothing
+    // left out for one.
+    EXPECT_TRUE(level["corner_peak"].is_null());
+    EXPECT_TRUE(level["corner_peak_position"].is_null());
   }
   EXPECT_TRUE(c["W_peak_conforming_rule"].is_string());
   // The peak zoom (default two steps) about the finest level's rim peak: step 0 is that level, the

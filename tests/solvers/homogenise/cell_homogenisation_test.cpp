@@ -44,6 +44,7 @@ TEST(CellHomogenisation, DiluteCircularHolesSoftenYoungsModulusAsPlaneElasticity
     m.poisson_ratio = nu;
     CellOptions o;
     o.resolution = 48;
+    o.rim_edges = 0;  // the stiffness at this resolution (the rim's own refinement is for the peak)
     const CellStiffness c = homogenise_cell(circle(), m, 0.97, o);
     const double phi = 1 - c.window_fill_ratio, E = m.youngs_modulus * m.thickness;
     const double E_x = 1.0 / c.membrane.inverse()(0, 0) / E, E_y = 1.0 / c.membrane.inverse()(1, 1) / E;
@@ -118,6 +119,7 @@ TEST(CellHomogenisation, ConvergesUnderRefinement) {
   for (double resolution : {24.0, 48.0, 96.0}) {
     CellOptions o;
     o.resolution = resolution;
+    o.rim_edges = 0;  // the resolution asked, not raised for the rim
     c.push_back(homogenise_cell(circle(), m, 0.6, o));
     std::cout << "resolution " << resolution << " (" << c.back().faces << " faces): g_m " << c.back().membrane_factor
               << ", g_b " << c.back().bending_factor << "\n";
@@ -170,6 +172,19 @@ TEST(CellHomogenisation, RejectsFillRatiosTheLatticeCannotHold) {
   EXPECT_NEAR(1 - max_hole_fraction(circle()), 1 - circle().area * 0.45 * 0.45 / (std::sqrt(3.0) / 2), 1e-12);
   EXPECT_THROW(homogenise_cell(circle(), test::pa12(), 0.2), InputError);
   EXPECT_THROW(homogenise_cell(circle(), test::pa12(), 1.2), InputError);
+}
+
+TEST(CellHomogenisation, RejectsBadOptions) {
+  for (const double resolution : {5.0, 201.0, double(NAN)}) {
+    CellOptions o;
+    o.resolution = resolution;
+    EXPECT_THROW(homogenise_cell(circle(), test::pa12(), 0.8, o), InputError) << resolution;
+  }
+  for (const double edges : {-1.0, 65.0, double(NAN)}) {
+    CellOptions o;
+    o.rim_edges = edges;
+    EXPECT_THROW(homogenise_cell(circle(), test::pa12(), 0.8, o), InputError) << edges;
+  }
 }
 
 }  // namespace
