@@ -89,7 +89,7 @@ struct CellOptions {
 ///
 /// Singular corners. A polygon with sharp corners turning into the material (a star's tips) has an
 /// unbounded stress there; rim points at corners turning past 30° are left out, and their neighbours
-/// read a peak that grows as the rim is refined (star at α = 0.75, 9 / 16 / 24 edges per radius:
+/// read a peak that grows as the rim is refined (star at α = 0.75, 10 / 16 / 24 edges per radius:
 /// membrane uniaxial 4.6 / 8.5 / 11.8): the rim's resolution, R/16, acts as the tip's radius. A
 /// smooth shape's rounds are not singular and converge (flower at α = 0.75: 12.4 / 15.5 / 16.2 at
 /// 8 / 16 / 24). `cutwork verify` leaves out the rim within the fabrication minimum feature of a
