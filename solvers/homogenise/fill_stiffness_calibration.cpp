@@ -37,9 +37,9 @@ void push_ratios(ShapeCurve& c, const SampleRatios& r) {
 ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options) {
   const std::vector<double>& grid = calibration_grid();
   const double lowest = 1 - max_hole_fraction(shape);
-  // The cells, one per distinct fill ratio (the grid's points below the lowest one share it). One
-  // after the other: solved concurrently, their factorisations' BLAS threads (set per problem size,
-  // process-wide) raced, and a sweep's variants differed from run to run in the 11th digit.
+  // The cells, one per distinct fill ratio (the grid's points below the lowest one share it), one
+  // after the other: two cells factorised at once are not reproducible to the last digits (see
+  // calibrate_fill_stiffness).
   std::vector<double> cut;
   for (double alpha : grid)
     if (alpha < 1 && std::find(cut.begin(), cut.end(), std::max(alpha, lowest)) == cut.end())
