@@ -18,6 +18,7 @@
 //                             levels, converged, last_change, finest_faces, C_finest and
 //                             C_extrapolated (J), error_bar (relative). Real time: meshing and
 //                             every solve.
+//   BM_PeakZoom/<s>/<m>       the peak zoom, whole shell (m = 0) or submodel (m = 1); see below.
 // Second argument m, the shell model of the coarse run: 0 the paper's (hinge bending, stiffness
 // linear in α), 1 shape-operator bending with linear stiffness, 2 shape-operator bending with
 // homogenised stiffness (solvers/homogenise). The conforming run uses the same bending model.
@@ -30,6 +31,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "host/scene/scene.h"
@@ -117,15 +119,30 @@ const VerifyCase& cantilever() {
   return c;
 }
 
+/// The `plate` scene at base edge 0.01 m and simulation edge 0.02 m, what verify needs of it.
+struct PlateForVerify {
+  Scene scene;
+  SceneMeshes meshes;
+  LoadCase lc;
+  std::unique_ptr<PatternContext> ctx;
+  PlateForVerify() {
+    nlohmann::json doc = builtin_scene_json("plate");
+    doc["mesh"]["edge_length"] = 0.01;
+    doc["mesh"]["sim_edge_length"] = 0.02;
+    scene = parse_scene(doc, "bench:plate");
+    meshes = build_scene_meshes(scene);
+    lc = resolve_load_case(scene, meshes.sim);
+    ctx = std::make_unique<PatternContext>(scene, meshes);
+  }
+};
+
 void BM_Verify_Levels(benchmark::State& state) {
   const VerifyCase& c = perforated();
-  nlohmann::json doc = builtin_scene_json(c.scene);
-  doc["mesh"]["edge_length"] = 0.01;
-  doc["mesh"]["sim_edge_length"] = 0.02;
-  const Scene scene = parse_scene(doc, "bench:plate");
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  const LoadCase lc = resolve_load_case(scene, meshes.sim);
-  const PatternContext ctx(scene, meshes);
+  const PlateForVerify p;
+  const Scene& scene = p.scene;
+  const SceneMeshes& meshes = p.meshes;
+  const LoadCase& lc = p.lc;
+  const PatternContext& ctx = *p.ctx;
   solvers::ConformingOptions o;
   o.edge_length = 0.006;
   o.levels = 4;
@@ -144,6 +161,40 @@ void BM_Verify_Levels(benchmark::State& state) {
 }
 
 BENCHMARK(BM_Verify_Levels)->Arg(0)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+// BM_PeakZoom/<s>/<m>: the plate clamped on one side with one hole of 15 mm (the test of the peak
+// zoom), two graded levels from L = 4 mm, then s zoom steps; m = 0 re-solves the whole shell on
+// each step, 1 the submodel of the finest level (solvers/conforming/zoom_submodel.h). Real time:
+// the whole verify, levels included (s = 0 is the levels alone). Counters: zoom_seconds (the steps'
+// meshing and solving), step_faces (the last step's triangles), patch_faces, peak (the last step's,
+// J/m²).
+void BM_PeakZoom(benchmark::State& state) {
+  const PlateForVerify p;
+  const std::vector<StencilParams> stencils{circle_at(0.0, 0.0, 0.015)};
+  solvers::ConformingOptions o;
+  o.edge_length = 0.004;
+  o.levels = 2;
+  o.grading_depth = 2;
+  o.peak_zoom = int(state.range(0));
+  o.zoom_submodel = state.range(1) == 1;
+  solvers::ConformingVerification v;
+  for (auto _ : state) v = solvers::verify_conforming(p.scene, p.meshes, p.lc, *p.ctx, stencils, o);
+  double zoom = 0;
+  for (size_t k = 1; k < v.zoom.steps.size(); ++k) zoom += v.zoom.steps[k].seconds + v.zoom.steps[k].mesh_seconds;
+  state.counters["zoom_seconds"] = zoom;
+  state.counters["step_faces"] = v.zoom.steps.empty() ? 0 : v.zoom.steps.back().faces;
+  state.counters["patch_faces"] = v.zoom.submodel_faces;
+  state.counters["peak"] = v.zoom.steps.empty() ? v.levels.back().peak : v.zoom.steps.back().peak;
+}
+BENCHMARK(BM_PeakZoom)
+    ->Args({0, 1})
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Args({4, 0})
+    ->Args({4, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
 
 BENCHMARK_CAPTURE(BM_Verify, Sheet, sheet())
     ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1, 2}})

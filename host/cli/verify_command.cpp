@@ -39,7 +39,8 @@ struct VerifyOptions {
   int levels = 4;             ///< at most
   double tolerance = 0.01;    ///< converged when the error bar is within it (0: run every level)
   int min_levels = 3;         ///< the fewest levels that count as converged
-  int peak_zoom = 2;          ///< zoom steps about the rim peak (0: none)
+  int peak_zoom = 4;          ///< zoom steps about the rim peak (0: none)
+  bool zoom_whole = false;    ///< re-solve the whole shell on each zoom step, not a submodel
   int max_faces = 800'000;
   int grading_depth = 2;
   double elements_across = 3;
@@ -204,6 +205,7 @@ void run_verify(const VerifyOptions& opts) {
   co.tolerance = opts.tolerance;
   co.min_levels = opts.min_levels;
   co.peak_zoom = opts.peak_zoom;
+  co.zoom_submodel = !opts.zoom_whole;
   co.max_faces = opts.max_faces;
   co.grading_depth = opts.grading_depth;
   co.elements_across = opts.elements_across;
@@ -221,6 +223,7 @@ void run_verify(const VerifyOptions& opts) {
                        {"tolerance", co.tolerance},
                        {"min_levels", co.min_levels},
                        {"peak_zoom", co.peak_zoom},
+                       {"zoom_submodel", co.zoom_submodel},
                        {"max_faces", co.max_faces},
                        {"grading_depth", co.grading_depth},
                        {"elements_across", co.elements_across}};
@@ -244,6 +247,7 @@ void run_verify(const VerifyOptions& opts) {
     for (const Vec3& c : v.zoom.centres) centres.push_back({c.x(), c.y(), c.z()});
     report["peak_zoom"] = {{"centres", centres},
                            {"radius", v.zoom.radius},
+                           {"submodel_triangles", v.zoom.submodel_faces},
                            {"steps", steps},
                            {"extrapolated", number_or_null(v.zoom.extrapolated)},
                            {"order", number_or_null(v.zoom.order)},
@@ -367,11 +371,14 @@ void add_verify_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--peak-zoom", opts->peak_zoom,
                   "after the last level, refine the rims this many more halvings about the candidates of the rim "
-                  "peak (within 2 of the finest level's edge lengths) and solve again, so that the conforming peak is "
-                  "read where the rims resolve it; its change over the last step is reported (0: the levels' rim "
-                  "peaks only)")
+                  "peak (within 2 of the finest level's edge lengths) and solve again (a submodel of the finest level "
+                  "about them, its border held at that level's solution), so that the conforming peak is read where "
+                  "the rims resolve it; its change over the last step is reported (0: the levels' rim peaks only)")
       ->check(CLI::Range(0, 4))
       ->capture_default_str();
+  cmd->add_flag("--zoom-whole", opts->zoom_whole,
+                "re-solve the whole shell on each peak zoom step (by default a submodel of the finest level about "
+                "the peak is re-solved, its border held at that level's solution)");
   cmd->add_option("--max-faces", opts->max_faces,
                   "solve no conforming level above this many triangles (the first is solved whatever its size; "
                   "about 6 kB of memory each)")

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <unordered_map>
 #include <vector>
@@ -129,7 +130,9 @@ double flatness(const Mesh& m, Mesh::Face_index f) {
   return longest > 0 ? twice_area / longest : 0.0;
 }
 
-int repair_caps_and_needles(Mesh& m, double L, const RemeshOptions& options) {
+/// `frozen` (optional): faces whose vertices and edges are constrained as the boundary's are.
+int repair_caps_and_needles(Mesh& m, double L, const RemeshOptions& options,
+                            const Mesh::Property_map<Mesh::Face_index, bool>* frozen = nullptr) {
   auto boundary_vertex = m.add_property_map<VertexIndex, bool>("v:on_boundary", false).first;
   auto boundary_edge = m.add_property_map<Mesh::Edge_index, bool>("e:on_boundary", false).first;
   for (const auto e : m.edges()) {
@@ -137,6 +140,14 @@ int repair_caps_and_needles(Mesh& m, double L, const RemeshOptions& options) {
     boundary_edge[e] = true;
     boundary_vertex[m.vertex(e, 0)] = boundary_vertex[m.vertex(e, 1)] = true;
   }
+  if (frozen)
+    for (const auto f : m.faces()) {
+      if (!(*frozen)[f]) continue;
+      for (const auto h : m.halfedges_around_face(m.halfedge(f))) {
+        boundary_edge[m.edge(h)] = true;
+        boundary_vertex[m.target(h)] = true;
+      }
+    }
   auto bad = [&] {
     int n = 0;
     for (const auto f : m.faces()) n += flatness(m, f) < options.repair_flatness;
@@ -265,19 +276,45 @@ std::vector<bool> faces_to_grade(const Mesh& m, double width, int rings) {
   return selected;
 }
 
+/// The input surface and its outline (its boundary edges): where the grading and the focus put new
+/// interior and boundary vertices.
+struct InputSurface {
+  InputSurface(const RowMatX3d& V, const RowMatX3i& F)
+      : mesh(to_cgal(V, F)), surface(CGAL::faces(mesh).first, CGAL::faces(mesh).second, mesh) {
+    surface.accelerate_distance_queries();
+    for (const auto e : mesh.edges())
+      if (mesh.is_border(e)) border.emplace_back(mesh.point(mesh.vertex(e, 0)), mesh.point(mesh.vertex(e, 1)));
+    outline.rebuild(border.cbegin(), border.cend());
+    if (!border.empty()) outline.accelerate_distance_queries();
+  }
+  InputSurface(const InputSurface&) = delete;
+  InputSurface& operator=(const InputSurface&) = delete;
+  Mesh mesh;
+  SurfaceTree surface;
+  std::vector<Segment> border;
+  SegmentTree outline;
+};
+
+/// How far from the outline a focus pass refines: everywhere in its balls for the grading's own
+/// halvings (k ≤ depth), then within focus_band × the pass's size of the outline.
+double focus_band(const GradingOptions& g, int pass, double size) {
+  return pass > g.depth && g.focus_band > 0 ? g.focus_band * size : std::numeric_limits<double>::infinity();
+}
+
 /// The faces one focus pass refines to `size` (header, GradingOptions::focus): those with a
 /// centroid within `radius` of a centre whose longest edge the remeshing would split (over 4/3
 /// size), plus `rings` rings; then every face already as fine as `size` (mean edge below it) is
 /// taken out again, so the pass never coarsens what an earlier one refined.
 std::vector<bool> faces_to_focus(const Mesh& m, const std::vector<Vec3>& centres, double radius, double size,
-                                 int rings) {
+                                 int rings, const SegmentTree& outline, double band) {
   std::vector<bool> selected(m.number_of_faces(), false);
   for (const auto f : m.faces()) {
     const Point c = face_centroid(m, f);
     const bool near = std::any_of(centres.begin(), centres.end(), [&](const Vec3& x) {
       return CGAL::squared_distance(c, Point(x.x(), x.y(), x.z())) <= radius * radius;
     });
-    selected[f.idx()] = near && longest_edge(m, f) > 4.0 / 3.0 * size;
+    selected[f.idx()] = near && longest_edge(m, f) > 4.0 / 3.0 * size &&
+                        (!std::isfinite(band) || CGAL::to_double(outline.squared_distance(c)) <= band * band);
   }
   add_rings(m, selected, rings);
   for (const auto f : m.faces()) {
@@ -334,6 +371,28 @@ int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const
   return count;
 }
 
+/// The garbage-free mesh into `out` (isolated vertices left out).
+void write_mesh(Mesh& m, RemeshedMesh& out) {
+  m.collect_garbage();
+  std::vector<int> index(m.number_of_vertices(), -1);
+  out.vertices.resize(Eigen::Index(m.number_of_vertices()), 3);
+  int n = 0;
+  for (const auto v : m.vertices()) {
+    if (m.is_isolated(v)) continue;
+    const Point& p = m.point(v);
+    out.vertices.row(n) << p.x(), p.y(), p.z();
+    index[size_t(v.idx())] = n++;
+  }
+  out.vertices.conservativeResize(n, 3);
+  out.faces.resize(Eigen::Index(m.number_of_faces()), 3);
+  int f = 0;
+  for (const auto face : m.faces()) {
+    int k = 0;
+    for (const auto v : m.vertices_around_face(m.halfedge(face))) out.faces(f, k++) = index[size_t(v.idx())];
+    ++f;
+  }
+}
+
 }  // namespace
 
 RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces, const RemeshOptions& options) {
@@ -369,14 +428,9 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
   m.collect_garbage();
   // Grading: refine where the material is narrow or the outline tight (header).
   if (options.grading.depth > 0 || (!options.grading.focus.empty() && options.grading.focus_depth > 0)) {
-    const Mesh input = to_cgal(vertices, faces);
-    SurfaceTree surface(CGAL::faces(input).first, CGAL::faces(input).second, input);
-    surface.accelerate_distance_queries();
-    std::vector<Segment> input_border;
-    for (const auto e : input.edges())
-      if (input.is_border(e)) input_border.emplace_back(input.point(input.vertex(e, 0)), input.point(input.vertex(e, 1)));
-    SegmentTree outline(input_border.cbegin(), input_border.cend());
-    outline.accelerate_distance_queries();
+    const InputSurface in(vertices, faces);
+    const SurfaceTree& surface = in.surface;
+    const SegmentTree& outline = in.outline;
     const GradingOptions& g = options.grading;
     for (int pass = 1; pass <= g.depth; ++pass) {
       const double current = L / double(1 << (pass - 1));
@@ -391,7 +445,7 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
     for (int pass = 1; !g.focus.empty() && g.focus_depth > 0 && pass <= total; ++pass) {
       const double size = L / double(1 << pass);
       const double radius = g.focus_radius * (1.0 + 0.5 * double(total - pass));
-      const std::vector<bool> selected = faces_to_focus(m, g.focus, radius, size, g.rings);
+      const std::vector<bool> selected = faces_to_focus(m, g.focus, radius, size, g.rings, outline, focus_band(g, pass, size));
       if (std::find(selected.begin(), selected.end(), true) == selected.end()) continue;
       out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline));
     }
@@ -401,24 +455,43 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
   // and needles' short interior edges collapsed, the boundary untouched (its edges and vertices
   // constrained). Without this, 3 of 6 built-in designs failed verify with a zero-area face.
   out.repaired_faces = repair_caps_and_needles(m, L, options);
-  m.collect_garbage();
-  std::vector<int> index(m.number_of_vertices(), -1);
-  out.vertices.resize(Eigen::Index(m.number_of_vertices()), 3);
-  int n = 0;
-  for (const auto v : m.vertices()) {
-    if (m.is_isolated(v)) continue;
-    const Point& p = m.point(v);
-    out.vertices.row(n) << p.x(), p.y(), p.z();
-    index[size_t(v.idx())] = n++;
+  write_mesh(m, out);
+  return out;
+}
+
+RemeshedMesh refine_about(const RowMatX3d& vertices, const RowMatX3i& faces, const std::vector<bool>& frozen,
+                          const RowMatX3d& surface_vertices, const RowMatX3i& surface_faces,
+                          const RemeshOptions& options) {
+  const GradingOptions& g = options.grading;
+  const int total = g.depth + g.focus_depth;
+  if (!(options.target_edge_length > 0) || !std::isfinite(options.target_edge_length) || options.iterations < 1 ||
+      g.focus.empty() || !(g.focus_radius > 0) || g.depth < 0 || g.focus_depth < 0 || total < 1 || total > 10 ||
+      g.rings < 0)
+    throw InputError("refining about centres: needs a positive size, at least one iteration, centres with a positive "
+                     "radius and 1 to 10 halvings in all");
+  if (frozen.size() != size_t(faces.rows())) throw InputError("refining about centres: one frozen flag per face expected");
+  Mesh m = to_cgal(vertices, faces);  // face f of the input is face index f
+  auto corner = m.add_property_map<VertexIndex, bool>("v:corner", false).first;
+  RemeshedMesh out;
+  out.corner_vertices = mark_corners(m, options.corner_angle * std::numbers::pi / 180.0, corner);
+  auto fixed = m.add_property_map<Mesh::Face_index, bool>("f:frozen", false).first;
+  for (const auto f : m.faces()) fixed[f] = frozen[f.idx()];
+  const InputSurface in(surface_vertices, surface_faces);
+  if (in.border.empty()) throw InputError("refining about centres: the input surface has no outline");
+  const SurfaceTree& surface = in.surface;
+  const SegmentTree& outline = in.outline;
+  const double L = options.target_edge_length;
+  for (int pass = 1; pass <= total; ++pass) {
+    const double size = L / double(1 << pass);
+    const double radius = g.focus_radius * (1.0 + 0.5 * double(total - pass));
+    std::vector<bool> selected = faces_to_focus(m, g.focus, radius, size, g.rings, outline, focus_band(g, pass, size));
+    for (const auto f : m.faces())
+      if (fixed[f]) selected[f.idx()] = false;
+    if (std::find(selected.begin(), selected.end(), true) == selected.end()) continue;
+    out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline));
   }
-  out.vertices.conservativeResize(n, 3);
-  out.faces.resize(Eigen::Index(m.number_of_faces()), 3);
-  int f = 0;
-  for (const auto face : m.faces()) {
-    int k = 0;
-    for (const auto v : m.vertices_around_face(m.halfedge(face))) out.faces(f, k++) = index[size_t(v.idx())];
-    ++f;
-  }
+  out.repaired_faces = repair_caps_and_needles(m, L, options, &fixed);
+  write_mesh(m, out);
   return out;
 }
 

@@ -86,6 +86,11 @@ struct LoadCase {
   /// (m) inside its region, or the number of vertices of a `nearest` point load; 0 for
   /// self-weight. Lets another mesh carry the same totals (resolve_load_case's match_totals).
   std::vector<double> load_measures;
+  /// True when fixed vertices are held away from their rest positions (the peak zoom's submodel,
+  /// solvers/conforming/zoom_submodel.h, holds its border where a solved shell put it): that motion
+  /// drives the shell, which then needs no load of its own. The solver starts from positions given
+  /// to it (EquilibriumSolver::restore_equilibrium), whose fixed rows it never changes.
+  bool held_motion = false;
 };
 
 }  // namespace cutwork

@@ -1,11 +1,13 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/richardson.h"
+#include "solvers/conforming/zoom_submodel.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -153,6 +155,7 @@ struct LevelSolve {
   Eigen::VectorXd W;          ///< #F, J/m²
   RowMatX3d u;                ///< #V×3, m
   std::vector<RimPoint> rim;  ///< the recovered rim
+  LoadCase load_case;         ///< the supports and loads it was solved under
 };
 
 /// Solves the conforming `mesh` (pieces the stencils cut loose are dropped from it first) under the
@@ -180,6 +183,7 @@ LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scen
   q.clamped_extent = support_extent(mesh, lc.clamped);
   const ShellModel model(mesh, scene.material, lc, mechanics);
   solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, run.W, &run.u);
+  run.load_case = std::move(lc);
   // The peak: recovered on the rims, and over the interior faces.
   Stopwatch recovering;
   run.rim = recover_rim(model, mesh.vertices() + run.u, rim_options);
@@ -294,6 +298,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   rim_options.support_radius = options.edge_length;
   rim_options.corners = &corners;
   const double cut_seconds = cutting.seconds();
+  LoadCase finest_case;  // the supports and loads of the finest level solved (the zoom's submodel)
   for (int level = 0; level < options.levels; ++level) {
     const double L = options.edge_length / double(1 << level);
     // Each level's mesh is built first (a prediction from the last level's size was off by
@@ -341,6 +346,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     v.conforming_W = std::move(run.W);
     v.conforming_rim = std::move(run.rim);
     v.conforming_displacement = std::move(run.u);
+    finest_case = std::move(run.load_case);
     v.conforming_mesh = std::move(mesh);
     {
       const RunQuantities& first = v.levels.front();
@@ -435,8 +441,56 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     grading.feature_scale = double(1 << k);
     grading.focus = z.centres;
     grading.focus_radius = z.radius;
+    // The submodel: the finest level's faces within the widest ball of the last step and a margin
+    // of two level-0 edge lengths (the rim recovery's singular zone about a support's end, which
+    // the held collar is to it), re-solved with the collar held (zoom_patch).
+    std::optional<ZoomPatch> patch;
+    const double finest_load = free_load_norm(v.conforming_mesh, finest_case, scene.material);
+    if (options.zoom_submodel) {
+      const double widest = z.radius * (1.0 + 0.5 * double(options.grading_depth + options.peak_zoom - 1));
+      patch = zoom_patch(v.conforming_mesh, z.centres, widest + 2 * options.edge_length);
+    }
     for (int step = 1; step <= options.peak_zoom; ++step) {
       grading.focus_depth = step;
+      if (patch) {
+        try {
+          Stopwatch meshing;
+          RemeshOptions ro;
+          ro.target_edge_length = L;
+          ro.iterations = options.remesh_iterations;
+          ro.grading = grading;
+          RemeshedMesh r =
+              refine_about(patch->mesh.vertices(), patch->mesh.faces(), patch->collar, cut.vertices, cut.faces, ro);
+          const SurfaceMesh sub(std::move(r.vertices), std::move(r.faces), "peak zoom submodel");
+          PeakZoomStep s;
+          s.mesh_seconds = meshing.seconds();
+          Stopwatch solving;
+          const std::vector<RimPoint> rim =
+              solve_submodel(*patch, sub, v.conforming_displacement,
+                             submodel_load_case(scene, meshes, v.conforming_mesh, finest_case, sub), scene.material,
+                             mechanics, settings, finest_load, rim_options)
+                  .rim;
+          s.seconds = solving.seconds();
+          s.faces = sub.num_faces();
+          s.rim_edge_length = L / double(1 << (options.grading_depth + step));
+          record(rim, s);
+          s.peak_outside = outside_peak(v.conforming_rim);  // the rest is the finest level's
+          z.steps.push_back(s);
+          z.submodel_faces = patch->mesh.num_faces();
+          continue;
+        } catch (const Interrupted&) {
+          throw;
+        } catch (const Error& e) {
+          v.notes.push_back(fmt::format("the peak zoom's submodel failed at step {} ({}); the zoom re-solves the whole "
+                                        "shell instead",
+                                        step, e.what()));
+          patch.reset();
+          z.steps.resize(1);
+          z.submodel_faces = 0;
+          step = 0;
+          continue;
+        }
+      }
       Stopwatch meshing;
       SurfaceMesh mesh = conforming_mesh(cut, L, options.remesh_iterations, grading);
       const double mesh_seconds = meshing.seconds();

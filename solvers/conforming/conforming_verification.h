@@ -72,9 +72,11 @@ inline constexpr double kPeakTolerance = 0.05;
 inline constexpr double kBudgetPredictionMargin = 1.25;
 
 /// The peak zoom: about each candidate of the finest level's rim peak (rim_peak_candidates: W at
-/// least kPeakZoomFraction of the peak, at most kPeakZoomCentres, 2 radii apart) the finest level's
-/// mesh is remeshed with its rims halved `peak_zoom` more times within kPeakZoomRadius × its edge
-/// length (GradingOptions::focus), and solved whole again.
+/// least kPeakZoomFraction of the peak, at most kPeakZoomCentres, 2 radii apart) the rims are halved
+/// `peak_zoom` more times within kPeakZoomRadius × the finest level's edge length
+/// (GradingOptions::focus, along the outline), and solved again: by default a submodel of the
+/// finest level about the centres, its border held at that level's solution (zoom_submodel.h);
+/// with zoom_submodel false the whole shell, remeshed from the cut.
 inline constexpr double kPeakZoomRadius = 2.0;
 inline constexpr double kPeakZoomFraction = 0.6;
 inline constexpr int kPeakZoomCentres = 4;
@@ -95,6 +97,9 @@ struct ConformingOptions {
   NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
   /// Zoom steps about the rim peak after the last level (PeakZoom; 0: none); in [0, 4].
   int peak_zoom = 0;
+  /// Each zoom step re-solves a submodel of the finest level about the centres, its collar held at
+  /// the level's solution (PeakZoom), instead of the whole shell.
+  bool zoom_submodel = true;
 };
 
 /// One step of the peak zoom. Step 0 is the finest level itself.
@@ -106,14 +111,14 @@ struct PeakZoomStep {
   /// J/m²: the largest non-singular rim W outside the balls (not refined further); a peak that
   /// moves there is said in the notes.
   double peak_outside = NAN;
-  double compliance = NAN;     ///< J: of the whole zoomed mesh (the zoom refines too little to move it)
+  double compliance = NAN;     ///< J: of the whole zoomed mesh (the zoom refines too little to move it); NaN for a submodel
   double seconds = 0, mesh_seconds = 0;
 };
 
 /// The conforming rim peak refined where it is: the zoom's steps, their Richardson extrapolation
-/// (richardson.h) and the change over the last step against kPeakTolerance. The global mesh is the
-/// finest level's, so the steps converge onto that level's peak with the rims resolved; its own
-/// error is the compliance's.
+/// (richardson.h) and the change over the last step against kPeakTolerance. The global mesh (or the
+/// submodel's held border) is the finest level's, so the steps converge onto that level's peak with
+/// the rims resolved; its own error is the compliance's.
 struct PeakZoom {
   std::vector<Vec3> centres;   ///< m
   double radius = 0;           ///< m
@@ -121,6 +126,7 @@ struct PeakZoom {
   double extrapolated = NAN, order = NAN, error_bar = NAN;
   double change = NAN;         ///< |P_last − P_before| / P_last
   bool converged = false;      ///< change ≤ kPeakTolerance
+  int submodel_faces = 0;      ///< the submodel's patch of the finest level (0: the whole shell was re-solved)
 };
 
 /// One equilibrium's scalar quantities (material only, see summarize_equilibrium) and its run.

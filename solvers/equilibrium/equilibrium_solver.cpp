@@ -254,7 +254,7 @@ void EquilibriumSolver::newton(const Eigen::VectorXd& alpha, const Eigen::Vector
                                int max_iterations) {
   if (max_iterations < 0) max_iterations = m_settings.max_iterations;
   const ShellModel& model = m_model;
-  const double load_norm = load.norm();
+  const double load_norm = std::max(load.norm(), m_settings.force_scale);
   const double size = model.model_size();
   const Eigen::VectorXd rest = model.gather_free(model.rest_positions());
   Eigen::VectorXd x = model.gather_free(m_trial);
@@ -462,7 +462,7 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
     throw SolveError(fmt::format("the loads are too large to compute with: the norm of the load vector "
                                  "overflows double precision (largest component {:.3g} N)",
                                  load.lpNorm<Eigen::Infinity>()));
-  if (!(m_stats.load_norm > 0))
+  if (!(m_stats.load_norm > 0) && !(model.load_case().held_motion && m_settings.force_scale > 0))
     throw SolveError("the load case applies no load to the free part of the shell: add a load");
 
   const bool warm = m_has_solution;

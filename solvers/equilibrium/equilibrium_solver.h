@@ -47,6 +47,9 @@ namespace cutwork::solvers {
 struct NewtonSettings {
   /// Converged when ‖∇Π‖ ≤ residual_tolerance · ‖f_ext‖ (free DOFs).
   double residual_tolerance = 1e-9;
+  /// N: a floor under ‖f_ext‖ in that test, for a shell driven by held motion (LoadCase::held_motion)
+  /// with little or no load of its own; the submodel uses its shell's load. 0: none.
+  double force_scale = 0;
   int max_iterations = 60;
   /// Largest accepted displacement, as a fraction of the model size (rest bounding-box diagonal).
   /// A shell that deflects more is beyond its capacity for this tool (and beyond the small-strain

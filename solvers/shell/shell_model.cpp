@@ -213,6 +213,7 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   for (int v = 0; v < nv && !loaded; ++v)
     loaded = m_vertex_node[v] >= 0 && lc.forces.row(v).squaredNorm() > 0;
   if (!loaded && m_stiffness.areal_mass > 0 && lc.gravity.squaredNorm() > 0) loaded = true;
+  loaded = loaded || lc.held_motion;
   if (!loaded)
     throw SolveError(
         "the load case applies no load to the free part of the shell (all forces are zero or act on "

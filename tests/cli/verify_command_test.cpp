@@ -98,17 +98,23 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
     EXPECT_TRUE(level["corner_peak_position"].is_null());
   }
   EXPECT_TRUE(c["W_peak_conforming_rule"].is_string());
-  // The peak zoom (default two steps) about the finest level's rim peak: step 0 is that level, the
-  // comparison's conforming peak the last step's, extrapolated over the steps (richardson.h).
-  EXPECT_EQ(report["options"]["peak_zoom"], 2);
+  // The peak zoom (default four steps, each a submodel of the finest level about the centres) about
+  // the finest level's rim peak: step 0 is that level, the comparison's conforming peak the last
+  // step's, extrapolated over the steps (richardson.h).
+  EXPECT_EQ(report["options"]["peak_zoom"], 4);
+  EXPECT_EQ(report["options"]["zoom_submodel"], true);
   const auto& zoom = report["peak_zoom"];
-  ASSERT_EQ(zoom["steps"].size(), 3u);
+  ASSERT_EQ(zoom["steps"].size(), 5u);
   EXPECT_EQ(zoom["steps"][0]["peak"].get<double>(), levels[2]["peak"].get<double>());
   EXPECT_GE(zoom["centres"].size(), 1u);
-  for (size_t k = 1; k < 3; ++k)
+  EXPECT_GT(zoom["submodel_triangles"].get<int>(), 0);
+  EXPECT_LT(zoom["submodel_triangles"].get<int>(), levels[2]["triangles"].get<int>());
+  for (size_t k = 1; k < 5; ++k) {
     EXPECT_DOUBLE_EQ(zoom["steps"][k]["rim_edge_length"].get<double>(),
                      0.5 * zoom["steps"][k - 1]["rim_edge_length"].get<double>());
-  const double p2 = zoom["steps"][2]["peak"];
+    EXPECT_TRUE(zoom["steps"][k]["compliance"].is_null());  // a submodel has no compliance of its own
+  }
+  const double p2 = zoom["steps"][4]["peak"];
   EXPECT_EQ(c["W_peak_conforming"].get<double>(), p2);
   const double p_inf = c["W_peak_conforming_extrapolated"], bar = c["W_peak_conforming_error_bar"];
   EXPECT_EQ(p_inf, zoom["extrapolated"].get<double>());

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -272,6 +274,67 @@ TEST(IsotropicRemesh, FocusRefinesABallAndLeavesTheRestAsItWas) {
   // A focus without a radius is refused.
   ro.grading.focus_radius = 0;
   EXPECT_THROW(remesh_isotropic(c.cut.vertices, c.cut.faces, ro), InputError);
+}
+
+// refine_about (the peak zoom's submodel): the focus passes alone on a remeshed mesh, some faces
+// frozen. About the circle's rim, a ball of 12 mm, one grading halving and two focus halvings: the
+// frozen faces (centroids beyond 20 mm) come out bit for bit, the rim within the ball gets L/8, and
+// the last pass refines only within its band (8 × L/8 = 4 mm) of the outline, so faces in the ball
+// 7 mm and more from the rim stay at L/4.
+TEST(IsotropicRemesh, RefineAboutKeepsFrozenFacesAndRefinesAlongTheRim) {
+  const CutPlate& c = cut_plate();
+  const double L = 0.004;
+  RemeshOptions ro{L, 5, 30.0};
+  ro.grading.depth = 1;
+  const RemeshedMesh plain = remesh_isotropic(c.cut.vertices, c.cut.faces, ro);
+  const SurfaceMesh a(plain.vertices, plain.faces, "plain");
+  const Vec3 hole(-0.04, 0.003, 0), centre = hole + Vec3(0.025, 0, 0);
+  auto centroid = [](const SurfaceMesh& m, int f) {
+    Vec3 x = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) x += m.vertices().row(m.faces()(f, k)).transpose() / 3.0;
+    return x;
+  };
+  std::vector<bool> frozen(size_t(a.num_faces()));
+  std::set<std::array<double, 9>> frozen_faces;
+  for (int f = 0; f < a.num_faces(); ++f) {
+    frozen[size_t(f)] = (centroid(a, f) - centre).norm() > 0.02;
+    if (!frozen[size_t(f)]) continue;
+    std::array<double, 9> key;
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) key[size_t(3 * k + d)] = a.vertices()(a.faces()(f, k), d);
+    frozen_faces.insert(key);
+  }
+  ro.grading.focus = {centre};
+  ro.grading.focus_radius = 0.012;
+  ro.grading.focus_depth = 2;
+  const RemeshedMesh r = refine_about(plain.vertices, plain.faces, frozen, c.cut.vertices, c.cut.faces, ro);
+  const SurfaceMesh b(r.vertices, r.faces, "refined");
+  EXPECT_GT(b.num_faces(), a.num_faces());
+  std::size_t kept = 0;
+  for (int f = 0; f < b.num_faces(); ++f) {
+    std::array<double, 9> key;
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) key[size_t(3 * k + d)] = b.vertices()(b.faces()(f, k), d);
+    kept += frozen_faces.count(key);
+  }
+  EXPECT_EQ(kept, frozen_faces.size());
+  double rim = 0, off_rim = 1;
+  for (int f = 0; f < b.num_faces(); ++f) {
+    const Vec3 x = centroid(b, f);
+    if ((x - centre).norm() > 0.008) continue;
+    const double from_rim = std::abs((x - hole).norm() - 0.025);
+    if (from_rim < 0.001) rim = std::max(rim, longest_edge(b, f));
+    if (from_rim > 0.007) off_rim = std::min(off_rim, longest_edge(b, f));
+  }
+  EXPECT_LT(rim, 1.5 * L / 8);
+  EXPECT_GT(off_rim, 1.5 * L / 8);
+  EXPECT_LT(outline_drift(SurfaceMesh(c.cut.vertices, c.cut.faces, "cut"), b), 1e-12);
+  std::printf("refine_about: %d triangles (from %d), %zu frozen kept; longest edge at the rim %.3g L/8, shortest "
+              "7 mm off it %.3g L/8\n",
+              b.num_faces(), a.num_faces(), kept, rim / (L / 8), off_rim / (L / 8));
+  // One flag per face.
+  frozen.pop_back();
+  EXPECT_THROW(refine_about(plain.vertices, plain.faces, frozen, c.cut.vertices, c.cut.faces, ro), InputError);
 }
 
 TEST(IsotropicRemesh, RejectsABadTargetLength) {
