@@ -445,10 +445,16 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     // of two level-0 edge lengths (the rim recovery's singular zone about a support's end, which
     // the held collar is to it), re-solved with the collar held (zoom_patch).
     std::optional<ZoomPatch> patch;
+    std::optional<LevelLoads> finest_loads;
     const double finest_load = free_load_norm(v.conforming_mesh, finest_case, scene.material);
     if (options.zoom_submodel) {
-      const double widest = z.radius * (1.0 + 0.5 * double(options.grading_depth + options.peak_zoom - 1));
-      patch = zoom_patch(v.conforming_mesh, z.centres, widest + 2 * options.edge_length);
+      try {
+        finest_loads = level_loads(scene, meshes, v.conforming_mesh, finest_case);
+        const double widest = z.radius * (1.0 + 0.5 * double(options.grading_depth + options.peak_zoom - 1));
+        patch = zoom_patch(v.conforming_mesh, z.centres, widest + 2 * options.edge_length);
+      } catch (const InputError& e) {
+        v.notes.push_back(fmt::format("the peak zoom re-solves the whole shell on each step: {}", e.what()));
+      }
     }
     for (int step = 1; step <= options.peak_zoom; ++step) {
       grading.focus_depth = step;
@@ -467,7 +473,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
           Stopwatch solving;
           const std::vector<RimPoint> rim =
               solve_submodel(*patch, sub, v.conforming_displacement,
-                             submodel_load_case(scene, meshes, v.conforming_mesh, finest_case, sub), scene.material,
+                             submodel_load_case(scene, meshes, *finest_loads, sub), scene.material,
                              mechanics, settings, finest_load, rim_options)
                   .rim;
           s.seconds = solving.seconds();

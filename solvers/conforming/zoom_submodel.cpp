@@ -62,17 +62,36 @@ ZoomPatch zoom_patch(const SurfaceMesh& level, const std::vector<Vec3>& centres,
   return p;
 }
 
-LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const SurfaceMesh& level,
-                            const LoadCase& level_case, const SurfaceMesh& sub) {
+LevelLoads level_loads(const Scene& scene, const SceneMeshes& meshes, const SurfaceMesh& level,
+                       const LoadCase& level_case) {
   const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
-  const std::vector<bool> outer_level = boundary_vertices_on_boundary_of(level, meshes.base, snap);
+  const std::vector<bool> outer = boundary_vertices_on_boundary_of(level, meshes.base, snap);
+  LevelLoads out;
+  out.own.assign(scene.loads.size(), 0.0);
+  out.matched = level_case.load_measures;
+  out.gravity = level_case.gravity;
+  Scene one = scene;
+  one.supports.clear();
+  for (size_t i = 0; i < scene.loads.size(); ++i) {
+    const LoadSpec& l = scene.loads[i];
+    if (l.kind == LoadKind::SelfWeight) continue;
+    if (l.select.nearest > 0) throw InputError("the peak zoom's submodel cannot carry a load on the nearest vertices");
+    one.loads = {l};
+    out.own[i] = resolve_load_case(one, level, &outer).load_measures[0];
+  }
+  return out;
+}
+
+LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const LevelLoads& level,
+                            const SurfaceMesh& sub) {
+  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
   const std::vector<bool> outer_sub = boundary_vertices_on_boundary_of(sub, meshes.base, snap);
   LoadCase lc;
   const size_t nv = size_t(sub.num_vertices());
   lc.fixed.assign(nv, false);
   lc.clamped.assign(nv, false);
   lc.forces = RowMatX3d::Zero(sub.num_vertices(), 3);
-  lc.gravity = level_case.gravity;
+  lc.gravity = level.gravity;
   lc.load_measures.assign(scene.loads.size(), 0.0);
   Scene one = scene;
   one.loads.clear();
@@ -91,8 +110,7 @@ LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const
   one.supports.clear();
   for (size_t i = 0; i < scene.loads.size(); ++i) {
     const LoadSpec& l = scene.loads[i];
-    if (l.kind == LoadKind::SelfWeight) continue;
-    if (l.select.nearest > 0) throw InputError("the peak zoom's submodel cannot carry a load on the nearest vertices");
+    if (l.kind == LoadKind::SelfWeight || !(level.own[i] > 0)) continue;
     one.loads = {l};
     LoadCase on_sub;
     try {
@@ -100,9 +118,8 @@ LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const
     } catch (const InputError&) {
       continue;  // nothing of it on the patch
     }
-    const double own = resolve_load_case(one, level, &outer_level).load_measures[0];
-    if (!(own > 0)) continue;
-    const double scale = l.kind == LoadKind::Point ? on_sub.load_measures[0] / own : level_case.load_measures[i] / own;
+    const double scale =
+        l.kind == LoadKind::Point ? on_sub.load_measures[0] / level.own[i] : level.matched[i] / level.own[i];
     lc.forces += scale * on_sub.forces;
     lc.load_measures[i] = on_sub.load_measures[0];
   }

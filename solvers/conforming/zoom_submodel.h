@@ -41,15 +41,26 @@ struct ZoomPatch {
 /// The faces of `level` whose centroids lie within `radius` (m) of any of `centres`, and the collar.
 ZoomPatch zoom_patch(const SurfaceMesh& level, const std::vector<Vec3>& centres, double radius);
 
-/// The scene's supports and loads on a submodel `sub` of `level` (solved under `level_case`), as they
-/// act on the level: per load, the density the level carries (a load per area or length: the
-/// level's matched total over its own measure; a total spread over a region: the total over the
-/// level's measure of the region), so the patch carries the level's share, not the whole load.
-/// Supports and loads that select nothing on the patch are left out; self-weight is the level's
-/// gravity. Throws InputError for a load on the n nearest vertices (what it selects depends on the
-/// mesh).
-LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const SurfaceMesh& level,
-                            const LoadCase& level_case, const SurfaceMesh& sub);
+/// What the level's loads are spread over, per scene load: its own measure of the load's region
+/// (area or length, or for a total spread over a region the region's), and the measure the level's
+/// case carries the total over (level_case.load_measures: the coarse run's, which it matched).
+struct LevelLoads {
+  std::vector<double> own, matched;
+  Vec3 gravity = Vec3::Zero();
+};
+
+/// The level's loads (solved under `level_case`), once per zoom. Throws InputError for a load on the
+/// n nearest vertices (what it selects depends on the mesh).
+LevelLoads level_loads(const Scene& scene, const SceneMeshes& meshes, const SurfaceMesh& level,
+                       const LoadCase& level_case);
+
+/// The scene's supports and loads on a submodel `sub` of the level, as they act on the level: per
+/// load, the density the level carries (a load per area or length: matched over own; a total spread
+/// over a region: the total over the level's measure of the region), so the patch carries the
+/// level's share, not the whole load. Supports and loads that select nothing on the patch are left
+/// out; self-weight is the level's gravity.
+LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const LevelLoads& level,
+                            const SurfaceMesh& sub);
 
 struct SubmodelSolution {
   RowMatX3d positions;         ///< #V_sub×3 (m), at equilibrium
