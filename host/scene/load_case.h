@@ -88,8 +88,9 @@ struct LoadCase {
   std::vector<double> load_measures;
   /// True when fixed vertices are held away from their rest positions (the peak zoom's submodel,
   /// solvers/conforming/zoom_submodel.h, holds its border where a solved shell put it): that motion
-  /// drives the shell, which then needs no load of its own. The solver starts from positions given
-  /// to it (EquilibriumSolver::restore_equilibrium), whose fixed rows it never changes.
+  /// drives the shell, which then needs no load of its own. The caller starts the solver from those
+  /// positions (EquilibriumSolver::restore_equilibrium): Newton leaves fixed rows as they are, but a
+  /// restart from rest would put them back, so the caller checks they did not move.
   bool held_motion = false;
 };
 

@@ -14,8 +14,8 @@
 ///    held at the level's solution. Two rings make the rest exact: a face next to the cut misses
 ///    neighbours (its bending element is not the level's), but all of its element's vertices are
 ///    held, so its energy is a constant; every face of the second ring and inside has all its
-///    neighbours in the patch. Tested: the patch re-solved unrefined reproduces the level's
-///    positions to the Newton tolerance.
+///    neighbours in the patch. Tested: the patch re-solved unrefined stays at the level's solution,
+///    and returns to it from its free vertices at rest (tests/solvers/conforming).
 ///  - refine_about (host/mesh/isotropic_remesh.h): the zoom's focus passes on the patch, the collar
 ///    frozen.
 ///  - submodel_load_case: the scene's supports and loads on the refined patch, at the densities the

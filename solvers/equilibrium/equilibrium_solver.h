@@ -48,7 +48,8 @@ struct NewtonSettings {
   /// Converged when ‖∇Π‖ ≤ residual_tolerance · ‖f_ext‖ (free DOFs).
   double residual_tolerance = 1e-9;
   /// N: a floor under ‖f_ext‖ in that test, for a shell driven by held motion (LoadCase::held_motion)
-  /// with little or no load of its own; the submodel uses its shell's load. 0: none.
+  /// with little or no load of its own; the peak zoom's submodel passes the ‖f_ext‖ of the shell it
+  /// was cut from, so that both are converged alike. 0: none.
   double force_scale = 0;
   int max_iterations = 60;
   /// Largest accepted displacement, as a fraction of the model size (rest bounding-box diagonal).
