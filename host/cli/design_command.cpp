@@ -280,8 +280,11 @@ void run_design_command(const DesignCommandOptions& opts) {
                   scene.name, r.layout.size(), meshes.base.num_faces(), meshes.sim.num_faces(),
                   r.uncut.summary.W_max, r.pattern_design.summary.W_max, r.final_design.summary.W_max,
                   std::isfinite(r.final_design.summary.W_peak_max)
-                      ? fmt::format("; ligament peak W_peak {:.4g} pattern, {:.4g} final",
-                                    r.pattern_design.summary.W_peak_max, r.final_design.summary.W_peak_max)
+                      ? fmt::format("; ligament peak W_peak {:.4g} pattern, {:.4g} final{}",
+                                    r.pattern_design.summary.W_peak_max, r.final_design.summary.W_peak_max,
+                                    std::isfinite(design.W_ligament_max)
+                                        ? fmt::format(", narrow ligaments W_lig {:.4g}", design.W_ligament_max)
+                                        : std::string())
                       : std::string(),
                   100 * r.final_design.material_fraction,
                   disc.is_null() ? std::string()

@@ -12,6 +12,7 @@
 #include "solvers/linear/thread_policy.h"
 
 int main(int argc, char** argv) {
+  cutwork::solvers::ensure_blas_kernels(argv);  // may run cutwork again with OPENBLAS_CORETYPE set
   cutwork::solvers::settle_library_threads();
   CLI::App app{
       "cutwork: thin shells with decorative stencils that stay structurally sound\n"

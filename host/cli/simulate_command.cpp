@@ -3,6 +3,7 @@
 // use, written as DIR/report.json and DIR/fields.ply (per-face α and W on the simulation mesh).
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -27,6 +28,7 @@
 #include "solvers/conforming/discretisation_estimate.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/optimize/stencilled_shell.h"
+#include "solvers/report/run_report.h"
 #include "solvers/report/simulate_report.h"
 
 namespace cutwork::cli {
@@ -182,6 +184,18 @@ void run_simulate(const SimulateOptions& opts) {
   nlohmann::json report =
       solvers::simulate_report(scene, meshes, model, shell.solver(), stats, summary, fill, timings, device_report);
   if (estimate) report["discretisation"] = solvers::discretisation_json(*estimate);
+  // The narrow ligaments W_peak cannot see (solvers/objective/ligament_peak.h).
+  double W_ligament_max = NAN;
+  if (cut && summary.peak_energy_density.size() == meshes.sim.num_faces()) {
+    sw.restart();
+    const std::vector<double>& samples = model.mechanics().stiffness_curve.alpha;
+    const solvers::LigamentPeakSummary ligaments = solvers::summarize_ligament_peaks(
+        *cut, meshes.base, meshes.sim, alpha, summary.peak_energy_density, samples.empty() ? 0.0 : samples.front(),
+        scene.material.thickness);
+    W_ligament_max = ligaments.W_max;
+    report["ligaments"] = solvers::ligament_peak_json(ligaments, scene.material.thickness);
+    report["timings"]["ligaments"] = sw.seconds();
+  }
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
   const RowMatX3d u = shell.solver().displacements();
@@ -209,11 +223,17 @@ void run_simulate(const SimulateOptions& opts) {
   for (const std::string& name : files.file_names()) written.push_back(name);
   for (const std::string& note : notes) say(opts.run, "note: " + note);
   say(opts.run, fmt::format("cutwork simulate: {}: {} triangles, {} DOFs; max displacement {:.4g} m, strain "
-                            "energy {:.4g} J, compliance {:.4g} J, W_max {:.4g} J/m^2 ({} Newton iterations); "
+                            "energy {:.4g} J, compliance {:.4g} J, W_max {:.4g} J/m^2{} ({} Newton iterations); "
                             "wrote {}",
                             scene.name, model.num_faces(), model.num_dofs(), summary.max_displacement,
-                            summary.strain_energy, summary.compliance, summary.W_max, stats.newton_iterations,
-                            files_written(out, written)));
+                            summary.strain_energy, summary.compliance, summary.W_max,
+                            std::isfinite(summary.W_peak_max)
+                                ? fmt::format(", ligament peak W_peak {:.4g}{}", summary.W_peak_max,
+                                              std::isfinite(W_ligament_max)
+                                                  ? fmt::format(", narrow ligaments W_lig {:.4g}", W_ligament_max)
+                                                  : std::string())
+                                : std::string(),
+                            stats.newton_iterations, files_written(out, written)));
 }
 
 }  // namespace

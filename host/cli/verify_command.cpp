@@ -131,6 +131,10 @@ json comparison_json(const solvers::ConformingVerification& v, const SurfaceMesh
             {"W_peak_conforming_converged", v.peak_converged},
             {"W_peak_conforming_tolerance", solvers::kPeakTolerance},
             {"W_peak_rule", solvers::kPeakEnergyDensityRule},
+            {"W_estimate_coarse", number_or_null(v.W_estimate)},
+            {"W_estimate_ratio", number_or_null(v.W_estimate_ratio)},
+            {"W_estimate_ratio_extrapolated", number_or_null(v.W_estimate_ratio_extrapolated)},
+            {"W_estimate_rule", "max(W_peak, W_ligament): the cell factors' peak and the narrow ligaments' (ligaments)"},
             {"W_relative_l2", v.W_relative_l2},
             {"compared_faces", v.compared_faces},
             {"material_fill_ratio", solvers::kMaterialFillRatio}};
@@ -257,6 +261,8 @@ void run_verify(const VerifyOptions& opts) {
   }
   report["converged"] = v.converged;
   report["comparison"] = comparison_json(v, meshes.sim);
+  if (std::isfinite(v.coarse.W_peak_max))
+    report["ligaments"] = solvers::ligament_peak_json(v.ligaments, loaded.scene.material.thickness);
   std::vector<std::string> notes = loaded.notes;
   notes.insert(notes.end(), v.notes.begin(), v.notes.end());
   report["notes"] = notes;
@@ -316,10 +322,16 @@ void run_verify(const VerifyOptions& opts) {
     const bool zoomed = v.zoom.steps.size() >= 2;
     const Vec3 peak_position = zoomed ? v.zoom.steps.back().position : v.levels.back().rim_peak_position;
     if (std::isfinite(v.W_peak_ratio))
-      say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}), conforming "
+      say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}{}), conforming "
                            "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}), extrapolated {:.4g} ± {:.2g}; "
-                           "ratio {:.4f} (extrapolated {:.4f})",
-                           v.coarse.W_peak_max, v.coarse.W_max, v.conforming_peak, peak_position.x(),
+                           "ratio {:.4f} (extrapolated {:.4f}){}",
+                           v.coarse.W_peak_max, v.coarse.W_max,
+                           std::isfinite(v.ligaments.W_max)
+                               ? fmt::format(", narrow ligaments W_lig {:.4g} at a {:.2g} m ligament",
+                                             v.ligaments.W_max,
+                                             v.ligaments.ligaments[std::size_t(v.ligaments.worst)].width)
+                               : std::string(),
+                           v.conforming_peak, peak_position.x(),
                            peak_position.y(), peak_position.z(),
                            std::isfinite(v.peak_change)
                                ? fmt::format("{}: {:.2g}% change over the last {}",
@@ -329,7 +341,11 @@ void run_verify(const VerifyOptions& opts) {
                                                                   v.zoom.steps.back().rim_edge_length)
                                                     : std::string("level"))
                                : std::string("one level: convergence unknown"),
-                           v.peak_extrapolated, v.peak_error_bar, v.W_peak_ratio, v.W_peak_ratio_extrapolated));
+                           v.peak_extrapolated, v.peak_error_bar, v.W_peak_ratio, v.W_peak_ratio_extrapolated,
+                           v.W_estimate != v.coarse.W_peak_max
+                               ? fmt::format("; max(W_peak, W_lig) / conforming {:.4f} (extrapolated {:.4f})",
+                                             v.W_estimate_ratio, v.W_estimate_ratio_extrapolated)
+                               : std::string()));
   }
 }
 

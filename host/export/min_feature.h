@@ -9,6 +9,7 @@
 /// edges (exact segment–segment distances). On a thin curved shell this is never more than the
 /// width measured along the surface, so the check errs on the safe side. A narrow neck within
 /// one loop (a thin stencil, or two overlapping stencils) is not a ligament and is not checked.
+#include <algorithm>
 #include <limits>
 #include <string>
 #include <vector>
@@ -36,6 +37,38 @@ struct MinFeatureReport {
   double narrowest_to_boundary = std::numeric_limits<double>::infinity();
   std::vector<LigamentViolation> violations;  ///< every loop pair closer than `minimum`, narrowest first
 };
+
+/// A ligament between two stencil holes: the narrowest material between two hole loops of a cut
+/// surface, and the radius of curvature of each rim there (for the ligament peak estimate of
+/// solvers/objective/ligament_peak.h). The radius is the least-squares circle through the rim's
+/// vertices within 4 widths of the closest point (more, doubling, until six take part), in the
+/// plane of the face there; +inf where the rim is straight or turns away from the ligament
+/// (concave): the neck then does not narrow on that side.
+struct Ligament {
+  double width = 0;       ///< m
+  Vec3 point_a = Vec3::Zero(), point_b = Vec3::Zero();  ///< the closest points on the two rims (m)
+  double radius_a = std::numeric_limits<double>::infinity();  ///< m, rim a about point_a
+  double radius_b = std::numeric_limits<double>::infinity();  ///< m, rim b about point_b
+  double size_a = 0, size_b = 0;  ///< m: each hole's size, half the largest extent of its box
+  int loop_a = -1, loop_b = -1;
+  Vec3 midpoint() const { return 0.5 * (point_a + point_b); }
+  /// The rims' radii as the estimate takes them: each capped at its hole's size (a rim that is
+  /// straight or concave there would make it infinite).
+  double capped_radius_a() const { return std::min(radius_a, size_a); }
+  double capped_radius_b() const { return std::min(radius_b, size_b); }
+  /// R_h: the neck's width about its narrowest point grows as w + s²/R_h with the distance s along
+  /// it, 1/R_h = (1/ρ_a + 1/ρ_b)/2 (the harmonic mean of the capped radii; R for two holes of
+  /// radius R).
+  double neck_radius() const;
+  /// S = (ρ_a² + ρ_b²)/(ρ_a + ρ_b), the pair's size (the contraharmonic mean of the capped radii; R
+  /// for two holes of radius R): how much load the two holes turn aside towards the neck.
+  double pair_radius() const;
+};
+
+/// Every ligament between two hole loops of `cut` (the border's loops left out) narrower than
+/// `relative_width` × the smaller hole's size (half the largest extent of its bounding box: a
+/// circle's radius), narrowest first. Loops as in check_min_feature.
+std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& base, double relative_width);
 
 /// Checks the cut surface `cut` of `base` against `minimum` (m, ≥ 0). The vertices of `cut`
 /// that come from base vertices (CutSurface::source_vertex) tell which loops are the border.

@@ -1,5 +1,7 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/conforming/conforming_verification.h"
+
+#include "solvers/objective/ligament_peak.h"
 #include "solvers/conforming/richardson.h"
 #include "solvers/conforming/zoom_submodel.h"
 
@@ -26,7 +28,8 @@ namespace {
 /// Solves `model` at `alpha` and fills the scalar quantities of `q`; W (#F) into `W`,
 /// displacements into `u` when non-null.
 void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const NewtonSettings& settings,
-               RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u, const Eigen::VectorXd* concentration_weight = nullptr) {
+               RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u, const Eigen::VectorXd* concentration_weight = nullptr,
+               Eigen::VectorXd* W_peak = nullptr) {
   Stopwatch sw;
   EquilibriumSolver solver(model, settings);
   const EquilibriumStats& stats = solver.solve(alpha);
@@ -43,6 +46,7 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
   q.load_total = model.external_forces(alpha).colwise().sum().transpose();
   q.newton_iterations = stats.newton_iterations;
   W = s.energy_density;
+  if (W_peak) *W_peak = s.peak_energy_density;
   if (u) *u = solver.displacements();
   q.seconds = sw.seconds();
 }
@@ -268,11 +272,13 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
   v.alpha = stencils.empty() ? own : filter.apply(own);
   // The conforming runs are at α = 1, where every fill rule is the solid.
+  Eigen::VectorXd coarse_W_peak;
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
   {
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     // W_peak's factors blend as the cell filter does (peak_energy_density.h).
-    solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr, filter.identity() ? nullptr : &filter.blend());
+    solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr, filter.identity() ? nullptr : &filter.blend(),
+              &coarse_W_peak);
     v.coarse.edge_length = meshes.sim.mean_edge_length();
     // The material the stencils leave is measured with the faces' own α, as a design measures it
     // (the filter is not exactly area-conserving near borders, cell_filter.h).
@@ -285,6 +291,12 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   Stopwatch cutting;
   const CutSurface cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), stencils);
   if (cut.faces.rows() == 0) throw InputError("the stencils cut the whole surface away: nothing to verify");
+  // The narrow ligaments W_peak cannot see (ligament_peak.h), from the coarse run's W_peak.
+  if (coarse_W_peak.size() == meshes.sim.num_faces()) {
+    const std::vector<double>& samples = mechanics.stiffness_curve.alpha;
+    v.ligaments = summarize_ligament_peaks(cut, meshes.base, meshes.sim, v.alpha, coarse_W_peak,
+                                           samples.empty() ? 0.0 : samples.front(), scene.material.thickness);
+  }
   // The singular corners of the rim recovery from the cut's outline, the same on every level.
   // The rim recovery's singular zones, the same on every level: the minimum feature about the
   // cut's corners that turn into the material, the level-0 edge length about support ends.
@@ -548,7 +560,12 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.strain_energy_ratio = ratio(v.coarse.strain_energy, f.strain_energy);
   v.max_displacement_ratio = ratio(v.coarse.max_displacement, f.max_displacement);
   v.W_max_ratio = ratio(v.coarse.W_max, f.W_max);
-  if (std::isfinite(v.coarse.W_peak_max)) v.W_peak_ratio = ratio(v.coarse.W_peak_max, v.conforming_peak);
+  if (std::isfinite(v.coarse.W_peak_max)) {
+    v.W_peak_ratio = ratio(v.coarse.W_peak_max, v.conforming_peak);
+    v.W_estimate = std::isfinite(v.ligaments.W_max) ? std::max(v.coarse.W_peak_max, v.ligaments.W_max)
+                                                    : v.coarse.W_peak_max;
+    v.W_estimate_ratio = ratio(v.W_estimate, v.conforming_peak);
+  }
   if (zoomed) {
     v.peak_extrapolated = v.zoom.extrapolated;
     v.peak_order = v.zoom.order;
@@ -561,8 +578,10 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       v.peak_error_bar = r.error_bar;
     }
   }
-  if (std::isfinite(v.coarse.W_peak_max) && std::isfinite(v.peak_extrapolated))
+  if (std::isfinite(v.coarse.W_peak_max) && std::isfinite(v.peak_extrapolated)) {
     v.W_peak_ratio_extrapolated = ratio(v.coarse.W_peak_max, v.peak_extrapolated);
+    v.W_estimate_ratio_extrapolated = ratio(v.W_estimate, v.peak_extrapolated);
+  }
   if (zoomed || v.levels.size() >= 2) {
     const double previous = zoomed ? v.zoom.steps[v.zoom.steps.size() - 2].peak : v.levels[v.levels.size() - 2].peak;
     v.peak_change = std::abs(v.conforming_peak - previous) / v.conforming_peak;

@@ -61,6 +61,7 @@
 #include "solvers/objective/structural_quantities.h"
 #include "host/pattern/pattern_context.h"
 #include "solvers/conforming/rim_recovery.h"
+#include "solvers/objective/ligament_peak.h"
 
 namespace cutwork::solvers {
 
@@ -209,6 +210,12 @@ struct ConformingVerification {
   /// peak_energy_density.h) / conforming_peak; NaN when the mechanics carries no concentration
   /// samples or the shell has no free rim.
   double W_peak_ratio = NAN;
+  /// The narrow ligaments of the design and their estimates W_lig (ligament_peak.h), from the coarse
+  /// run's W_peak; empty without concentration samples.
+  LigamentPeakSummary ligaments;
+  /// The coarse estimate of the peak: max(W_peak_max, W_lig max), and it / conforming_peak (and / P∞
+  /// below); NaN where W_peak_ratio is.
+  double W_estimate = NAN, W_estimate_ratio = NAN, W_estimate_ratio_extrapolated = NAN;
   /// The conforming peak between the last two levels (between the zoom's last two steps when it
   /// ran): |P_k − P_{k−1}| / P_k (NaN with one level), and whether it is within kPeakTolerance. The recovered rim peak converges at first order or
   /// better (rim_recovery.h); the largest face W next to a rim does not (it was 1.3–1.8× Goodier's

@@ -5,8 +5,12 @@
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <cstdlib>
 
 namespace cutwork::solvers {
 
@@ -124,6 +128,34 @@ namespace cutwork::solvers {
 
 bool openmp_gate_installed() {
   return dlsym(RTLD_DEFAULT, "GOMP_parallel") == reinterpret_cast<void*>(&GOMP_parallel);
+}
+
+std::string blas_kernels() {
+  using Name = char* (*)();
+  static const Name name = reinterpret_cast<Name>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  if (!name) return {};
+  const char* n = name();
+  return n ? std::string(n) : std::string();
+}
+
+std::string preferred_blas_kernels(const std::string& kernels) {
+  // OpenBLAS's generic x86-64 targets: what it falls back to on a CPU model it does not know.
+  static const std::array<const char*, 6> generic = {"Prescott", "Core2", "Penryn", "Dunnington", "Nehalem", "Katmai"};
+  if (std::find(generic.begin(), generic.end(), kernels) == generic.end()) return {};
+#if defined(__x86_64__) || defined(__i386__)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return "Haswell";
+#endif
+  return {};
+}
+
+void ensure_blas_kernels(char** argv) {
+  if (std::getenv("OPENBLAS_CORETYPE") != nullptr) return;
+  const std::string preferred = preferred_blas_kernels(blas_kernels());
+  if (preferred.empty() || argv == nullptr) return;
+  if (setenv("OPENBLAS_CORETYPE", preferred.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  // Still here: the re-execution failed; go on with the kernels OpenBLAS chose.
+  unsetenv("OPENBLAS_CORETYPE");
 }
 
 }  // namespace cutwork::solvers

@@ -37,6 +37,7 @@
 /// from the thread that is about to factorise (CholmodSolver does). Concurrent factorisations in
 /// different threads each set the same policy for their own size; the last writer wins.
 #include <cstdint>
+#include <string>
 
 namespace cutwork::solvers {
 
@@ -76,6 +77,29 @@ bool blas_threads_controllable();
 /// `cutwork design bowl`. Programs call it first thing in main(); factorisations that earn the
 /// parallel setting start the workers again.
 void settle_library_threads();
+
+/// The OpenBLAS kernels in use (openblas_get_corename: "Haswell", "SkylakeX", "Prescott", …); empty
+/// when the BLAS is not OpenBLAS.
+std::string blas_kernels();
+
+/// The kernels OpenBLAS should use on this CPU when it fell back to generic ones, else empty.
+/// OpenBLAS (DYNAMIC_ARCH) picks its kernels from the CPU model when it is loaded; Debian 12's 0.3.21
+/// does not know recent Xeons (this project's build machine: family 6, model 207, AVX-512) and falls
+/// back to "Prescott" (SSE3). Under those kernels cutwork's numbers moved on that machine — the
+/// Kirsch hole's graded mesh came out with 15694 instead of 15715 faces and its largest face W at
+/// 1.023 instead of 1.080 of the closed form, and CHOLMOD refused a peak-zoom submodel's stiffness
+/// as not positive definite where its smallest eigenvalue is +9.0e3 N/m (largest 1.0e10): two tests
+/// failed — while the BLAS calls themselves checked out correct (dgemm, dsyrk, dtrsm to 1e-13).
+/// Whatever the path, the fallback is not the configuration cutwork is tested in. "Haswell"
+/// (AVX2 + FMA) where the CPU has both and `kernels` is one of OpenBLAS's generic x86 targets.
+std::string preferred_blas_kernels(const std::string& kernels);
+
+/// Programs call this first thing in main(), with their argv: where preferred_blas_kernels() names
+/// kernels and OPENBLAS_CORETYPE is not set, the program runs itself again (execv of
+/// /proc/self/exe, same arguments) with OPENBLAS_CORETYPE set to them — OpenBLAS reads it only when
+/// it is loaded. Returns when nothing needs doing, when OPENBLAS_CORETYPE is already set (the user's
+/// choice stands), or when the re-execution fails (the process goes on with the fallback).
+void ensure_blas_kernels(char** argv);
 
 /// Whether OpenMP regions entered through GOMP_parallel reach cutwork's gate (false when the
 /// symbol is bound elsewhere, e.g. a program that does not export it).

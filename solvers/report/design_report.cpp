@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include <fmt/format.h>
+
 #include "host/core/atomic_file.h"
 #include "host/core/output_set.h"
 #include "host/export/stencil_outlines.h"
@@ -196,8 +198,29 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     if (!final_design.converged) info.notes.push_back("final design: " + discretisation_line(final_design));
     info.timings.add("discretisation", sw.seconds());
   }
+  // The ligament peak (solvers/objective/ligament_peak.h): the narrow ligaments W_peak cannot see.
+  LigamentPeakSummary ligaments;
+  const bool peak = result.final_design.summary.peak_energy_density.size() == meshes.sim.num_faces();
+  if (peak) {
+    sw.restart();
+    const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
+    const std::vector<double>& samples = mechanics.stiffness_curve.alpha;
+    ligaments = summarize_ligament_peaks(out.cut, meshes.base, meshes.sim, result.final_design.alpha,
+                                         result.final_design.summary.peak_energy_density,
+                                         samples.empty() ? 0.0 : samples.front(), scene.material.thickness);
+    out.W_ligament_max = ligaments.W_max;
+    if (ligaments.narrower_than_thickness > 0)
+      info.notes.push_back(fmt::format(
+          "{} of the {} ligaments searched between holes are narrower than the shell is thick ({:.4g} m; the narrowest "
+          "{:.3g} m): there the part twists as a beam, not as a plate, and neither W_peak, W_lig nor verify's "
+          "Kirchhoff shell describes it (fabrication.min_feature, {:.4g} m, sets how narrow a ligament may be)",
+          ligaments.narrower_than_thickness, ligaments.ligaments.size(), scene.material.thickness,
+          ligaments.ligaments.front().width, scene.fabrication.min_feature));
+    info.timings.add("ligaments", sw.seconds());
+  }
   info.timings.add("total", since_start.seconds());
   out.report = design_report(scene, meshes, ctx, result, out.cut, info);
+  if (peak) out.report["structure"]["ligaments"] = ligament_peak_json(ligaments, scene.material.thickness);
   if (!discretisation.is_null()) out.report["discretisation"] = discretisation;
   return out;
 }

@@ -11,6 +11,7 @@
 ///   report.json    design_report below; written last, so its presence says the set is complete
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,9 @@ struct DesignOutputs {
   const DesignResult* result = nullptr;
   CutSurface cut;          ///< the base mesh with the final stencils cut out
   nlohmann::json report;   ///< report.json
+  /// The largest ligament peak estimate (J/m², solvers/objective/ligament_peak.h; NaN without
+  /// concentration factors or narrow ligaments): report.json's structure.ligaments.W_ligament_max.
+  double W_ligament_max = std::numeric_limits<double>::quiet_NaN();
   std::optional<DesignFiles> files;  ///< the designer's files (add_design_files), written before report.json
 };
 

@@ -1,6 +1,9 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/report/run_report.h"
 
+#include <algorithm>
+#include <numeric>
+
 #include <cmath>
 
 namespace cutwork::solvers {
@@ -46,6 +49,42 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
   }
   r["timings"] = timings_json(timings);
   return r;
+}
+
+nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thickness, int listed) {
+  std::vector<int> order(summary.peaks.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return summary.peaks[std::size_t(a)].W > summary.peaks[std::size_t(b)].W; });
+  if (int(order.size()) > listed) order.resize(std::size_t(std::max(listed, 0)));
+  auto point = [](const Vec3& p) { return nlohmann::json{p.x(), p.y(), p.z()}; };
+  nlohmann::json worst = nlohmann::json::array();
+  for (int i : order) {
+    const Ligament& l = summary.ligaments[std::size_t(i)];
+    const LigamentPeak& p = summary.peaks[std::size_t(i)];
+    worst.push_back({{"W", p.W},
+                     {"width", l.width},
+                     {"radius_a", number_or_null(l.radius_a)},
+                     {"radius_b", number_or_null(l.radius_b)},
+                     {"neck_radius", p.neck_radius},
+                     {"pair_radius", p.pair_radius},
+                     {"x", number_or_null(p.x)},
+                     {"x_lattice", number_or_null(p.x_lattice)},
+                     {"factor", p.factor},
+                     {"face", p.face},
+                     {"W_peak_face", p.W_peak_face},
+                     {"alpha_face", p.alpha},
+                     {"point", point(l.midpoint())}});
+  }
+  return {{"rule", kLigamentPeakRule},
+          {"searched", summary.ligaments.size()},
+          {"search_width", kLigamentSearchWidth},
+          {"narrowest", summary.ligaments.empty() ? nlohmann::json(nullptr) : nlohmann::json(summary.ligaments[0].width)},
+          {"narrower_than_thickness", summary.narrower_than_thickness},
+          {"thickness", thickness},
+          {"W_ligament_max", number_or_null(summary.W_max)},
+          {"worst", worst},
+          {"units", {{"W", "J/m^2"}, {"width", "m"}, {"radius", "m"}}}};
 }
 
 }  // namespace cutwork::solvers

@@ -9,6 +9,7 @@
 
 #include "host/core/timer.h"
 #include "host/scene/scene.h"
+#include "solvers/objective/ligament_peak.h"
 
 namespace cutwork::solvers {
 
@@ -21,5 +22,12 @@ nlohmann::json timings_json(const Timings& timings);
 /// scene, scene_source, mesh {vertices, triangles, sim_vertices, sim_triangles, sim_is_base,
 /// map_max_distance}, timings.
 nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings);
+
+/// The ligament peak estimate (solvers/objective/ligament_peak.h) as report.json's
+/// `structure.ligaments` (design) and verify's `peak.ligaments`: the rule, how many ligaments were
+/// searched and how many are narrower than the shell is thick, the largest W_lig, and the `worst`
+/// ligaments (at most `listed`, largest W_lig first), each with its width, rims' radii, x, the
+/// lattice's x at the face read, the factor and where it is.
+nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thickness, int listed = 5);
 
 }  // namespace cutwork::solvers

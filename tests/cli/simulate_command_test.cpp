@@ -192,6 +192,22 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   EXPECT_GT(wp_sim, w_sim);
   EXPECT_TRUE(lin["equilibrium"]["W_peak_max"].is_null());
   EXPECT_EQ(lin["equilibrium"]["W_peak_max_face"], -1);
+  // The narrow ligaments' estimates (solvers/objective/ligament_peak.h): the design's and the
+  // simulation's are the same (the same stencils, cut and W_peak), each at least its face's W_peak;
+  // the linear rule has no W_peak and so no estimate.
+  const auto& lig_design = design["structure"]["ligaments"];
+  const auto& lig_sim = hom["ligaments"];
+  ASSERT_TRUE(lig_design.is_object()) << design["structure"];
+  EXPECT_EQ(lig_design["searched"], lig_sim["searched"]);
+  const double wl_design = lig_design["W_ligament_max"], wl_sim = lig_sim["W_ligament_max"];
+  EXPECT_NEAR(wl_sim, wl_design, 1e-6 * wl_design);
+  EXPECT_TRUE(lig_design["rule"].is_string());
+  for (const auto& w : lig_sim["worst"]) {
+    EXPECT_GE(w["W"].get<double>(), w["W_peak_face"].get<double>());
+    EXPECT_GE(w["factor"].get<double>(), 1.0);
+    EXPECT_GT(w["width"].get<double>(), 0.0);
+  }
+  EXPECT_FALSE(lin.contains("ligaments"));
   EXPECT_GT(hom["equilibrium"]["compliance"].get<double>(), 1.02 * lin["equilibrium"]["compliance"].get<double>());
 
   scene["mechanics"]["stiffness"] = "periodic";

@@ -121,6 +121,9 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   EXPECT_EQ(bar, zoom["error_bar"].get<double>());
   EXPECT_GE(bar, std::abs(p_inf - p2) * (1 - 1e-12));  // equal when the steps converge monotonically
   EXPECT_TRUE(c.contains("W_peak_ratio_extrapolated"));
+  // The linear rule has no W_peak, and so no ligament estimate (the homogenised sheet below has).
+  EXPECT_TRUE(c["W_estimate_coarse"].is_null());
+  EXPECT_FALSE(report.contains("ligaments"));
   EXPECT_TRUE(report["coarse"]["min_angle"].is_null());
   for (size_t k = 1; k < 3; ++k)
     EXPECT_GT(levels[k]["triangles"].get<int>(), 3 * levels[k - 1]["triangles"].get<int>());
@@ -163,6 +166,15 @@ TEST(CliVerify, HomogenisedStiffnessOnTheSheetWithOneHole) {
     const auto report = read_json(design / "verify" / "report.json");
     EXPECT_EQ(report["mechanics"]["stiffness"], stiffness);
     ratio[k++] = report["comparison"]["compliance_ratio"].get<double>();
+    if (std::string(stiffness) == "homogenised") {
+      // One hole, no ligament: the coarse estimate max(W_peak, W_lig) is W_peak itself.
+      const auto& c = report["comparison"];
+      ASSERT_TRUE(report.contains("ligaments"));
+      EXPECT_EQ(report["ligaments"]["searched"], 0);
+      EXPECT_TRUE(report["ligaments"]["W_ligament_max"].is_null());
+      EXPECT_EQ(c["W_estimate_coarse"], c["W_peak_coarse"]);
+      EXPECT_EQ(c["W_estimate_ratio"], c["W_peak_ratio"]);
+    }
   }
   EXPECT_NEAR(ratio[0], 1.0, 0.035) << ratio[0];
   EXPECT_NEAR(ratio[1], 1.0, 0.05) << ratio[1];

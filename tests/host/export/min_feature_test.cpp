@@ -87,5 +87,75 @@ TEST(MinFeature, SegmentDistanceCases) {
   EXPECT_NEAR(segment_distance({0, 0, 0}, {0, 0, 0}, {-1, 1, 0}, {1, 1, 0}, &p, &q), 1.0, 1e-15);
 }
 
+/// Stencils of the types of `Plate` plus a 128-gon circle (type 1), each at (x, y) with its
+/// bounding radius.
+struct Mixed : Plate {
+  Mixed() { shapes.add(make_builtin_stencil("circle", {{"segments", 128}}, "circle")); }
+  struct Hole {
+    double x, y, radius;
+    int type;
+  };
+  CutSurface cut(const std::vector<Hole>& holes) const {
+    std::vector<StencilParams> stencils;
+    for (const Hole& h : holes) {
+      StencilParams p;
+      p.position = Vec3(h.x, h.y, 0);
+      p.scale = h.radius;
+      p.type = h.type;
+      stencils.push_back(p);
+    }
+    return cut_stencils(bvh, shapes, field, stencils);
+  }
+};
+
+TEST(Ligaments, TwoCirclesGiveTheirWidthAndRadii) {
+  const Mixed plate;
+  const double ra = 0.02, rb = 0.03, gap = 0.001;
+  // The 128-gons have a vertex on the line of centres: the closest points are those vertices.
+  const CutSurface cut = plate.cut({{-0.045, 0, ra, 1}, {-0.045 + ra + gap + rb, 0, rb, 1}});
+  const std::vector<Ligament> ls = find_ligaments(cut, plate.mesh, 0.5);
+  ASSERT_EQ(ls.size(), 1u);
+  const Ligament& l = ls[0];
+  EXPECT_NEAR(l.width, gap, 1e-9);
+  EXPECT_NEAR(l.midpoint().x(), -0.045 + ra + gap / 2, 1e-9);
+  EXPECT_NEAR(l.midpoint().y(), 0, 1e-9);
+  // The rims' radii from the least-squares circle through the rim's vertices about the neck: the
+  // polygon's vertices lie on the circle, the points where the base mesh's edges cross its sides
+  // up to R (1 − cos(π/128)) = 3e-4 R inside it, over an arc of ±8–15°: measured 0.6% off for ρ_b.
+  const double rA = std::min(l.radius_a, l.radius_b), rB = std::max(l.radius_a, l.radius_b);
+  EXPECT_NEAR(rA, ra, 0.02 * ra);
+  EXPECT_NEAR(rB, rb, 0.02 * rb);
+  EXPECT_NEAR(std::min(l.size_a, l.size_b), ra, 0.01 * ra);
+  EXPECT_NEAR(l.neck_radius(), 2 * ra * rb / (ra + rb), 0.02 * ra);
+  EXPECT_NEAR(l.pair_radius(), (ra * ra + rb * rb) / (ra + rb), 0.02 * ra);
+}
+
+TEST(Ligaments, AStraightRimCountsAsLargeAsItsHoleAndWideOnesAreNotListed) {
+  const Mixed plate;
+  const double r = 0.01, half = 0.01, gap = 0.0008;
+  // A circle beside a square's straight side; a second circle far away (8 mm: 0.8 of the smaller
+  // size, beyond the search's 0.5); a third 1 mm from the border (a border loop is no ligament).
+  const CutSurface cut = plate.cut({{-0.05, 0, r, 1},
+                                    {-0.05 + r + gap + half, 0, half * std::sqrt(2.0), 0},
+                                    {-0.05 - r - 0.008 - r, 0, r, 1},
+                                    {0.1 - 0.001 - r, 0, r, 1}});
+  const std::vector<Ligament> ls = find_ligaments(cut, plate.mesh, 0.5);
+  ASSERT_EQ(ls.size(), 1u);
+  const Ligament& l = ls[0];
+  EXPECT_NEAR(l.width, gap, 1e-9);
+  const bool circle_is_a = l.point_a.x() < l.point_b.x();
+  const double circle_radius = circle_is_a ? l.radius_a : l.radius_b;
+  const double square_radius = circle_is_a ? l.radius_b : l.radius_a;
+  EXPECT_NEAR(circle_radius, r, 0.02 * r);
+  // Straight there: no circle (or, once the fit reaches the square's corners, one larger than it).
+  EXPECT_GE(square_radius, half);
+  // Capped at the square's size (half its side): R_h = 2 r s/(r + s) with s = half.
+  EXPECT_NEAR(l.neck_radius(), 2 * circle_radius * half / (circle_radius + half), 1e-9 * r);
+  // With the search widened to the far circle, it is listed too (8 mm, radii r).
+  const std::vector<Ligament> wide = find_ligaments(cut, plate.mesh, 1.0);
+  ASSERT_EQ(wide.size(), 2u);
+  EXPECT_NEAR(wide[1].width, 0.008, 1e-9);
+}
+
 }  // namespace
 }  // namespace cutwork

@@ -2,6 +2,10 @@
 // than TBB's budget (global_control or the calling arena), and the settings reach the libraries.
 #include <dlfcn.h>
 
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
@@ -127,6 +131,28 @@ TEST(ThreadPolicy, OpenMpGateRunsInactiveRegionsInlineAndForwardsActiveOnes) {
     EXPECT_LE((x - serial).norm(), 1e-12 * serial.norm());
   });
   set_parallel_factor_flops(threshold);
+}
+
+// OpenBLAS's generic fallback kernels are replaced where the CPU has AVX2 and FMA (Haswell's), and
+// this test executable runs with the kernels the cutwork executable would use: its main() made the
+// same check (tests/support/test_main.cpp), so generic kernels remain only by the user's own
+// OPENBLAS_CORETYPE.
+TEST(ThreadPolicy, OpenBlasRunsWithKernelsForThisCpu) {
+  EXPECT_EQ(preferred_blas_kernels("Haswell"), "");
+  EXPECT_EQ(preferred_blas_kernels("SkylakeX"), "");
+  EXPECT_EQ(preferred_blas_kernels(""), "");
+#if defined(__x86_64__)
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  EXPECT_EQ(preferred_blas_kernels("Prescott"), avx2 ? "Haswell" : "");
+#endif
+  const std::string kernels = blas_kernels();
+  std::cout << "OpenBLAS kernels: " << (kernels.empty() ? "(not OpenBLAS)" : kernels)
+            << (std::getenv("OPENBLAS_CORETYPE") ? std::string(", OPENBLAS_CORETYPE=") + std::getenv("OPENBLAS_CORETYPE")
+                                                 : std::string())
+            << "\n";
+  if (!preferred_blas_kernels(kernels).empty()) {
+    EXPECT_NE(std::getenv("OPENBLAS_CORETYPE"), nullptr) << "generic kernels " << kernels << " without the user's choice";
+  }
 }
 
 }  // namespace
