@@ -265,12 +265,23 @@ std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& b
   const std::vector<Loop> loops = boundary_loops(cut, base);
   // A loop's size: half the largest extent of its box (a circle's radius).
   auto size = [](const Loop& l) { return 0.5 * (l.box.max() - l.box.min()).maxCoeff(); };
-  for (int i = 0; i < int(loops.size()); ++i) {
+  // Sweep and prune along x: the holes by the lower end of their boxes; a later hole whose box
+  // starts beyond the earlier's end plus its bound cannot pair with it, nor can any after it.
+  std::vector<int> order;
+  for (int i = 0; i < int(loops.size()); ++i)
+    if (!loops[size_t(i)].border) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    return loops[size_t(x)].box.min().x() < loops[size_t(y)].box.min().x() || (loops[size_t(x)].box.min().x() ==
+           loops[size_t(y)].box.min().x() && x < y);
+  });
+  for (std::size_t oi = 0; oi < order.size(); ++oi) {
+    const int i = order[oi];
     const Loop& a = loops[size_t(i)];
-    if (a.border) continue;
-    for (int j = i + 1; j < int(loops.size()); ++j) {
-      const Loop& b = loops[size_t(j)];
-      if (b.border) continue;
+    const double reach = a.box.max().x() + relative_width * size(a);
+    for (std::size_t oj = oi + 1; oj < order.size(); ++oj) {
+      const Loop& b = loops[size_t(order[oj])];
+      if (b.box.min().x() > reach) break;
+      const int j = order[oj];
       const double bound = relative_width * std::min(size(a), size(b));
       if (box_distance(a.box, b.box) > bound) continue;
       Ligament l;

@@ -67,6 +67,14 @@ std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::Ve
   const RowMatX3i& F = sim.faces();
   RowMatX3d centroid(nf, 3);
   for (int f = 0; f < nf; ++f) centroid.row(f) = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))) / 3.0;
+  // The faces by centroid x: a ligament looks at the slab |x − m_x| ≤ r only.
+  std::vector<int> by_x(static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) by_x[std::size_t(f)] = f;
+  std::sort(by_x.begin(), by_x.end(), [&](int a, int b) { return centroid(a, 0) < centroid(b, 0); });
+  std::vector<double> xs(by_x.size());
+  for (std::size_t i = 0; i < by_x.size(); ++i) xs[i] = centroid(by_x[i], 0);
+  // The nearest centroid of a point on the surface lies within about one edge of it.
+  const double near_reach = 2 * sim.mean_edge_length();
   std::vector<LigamentPeak> out;
   out.reserve(ligaments.size());
   for (std::size_t i = 0; i < ligaments.size(); ++i) {
@@ -96,11 +104,21 @@ std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::Ve
         p.alpha = alpha(f);
       }
     };
-    for (int f = 0; f < nf; ++f) {
-      const double d2 = (centroid.row(f).transpose() - m).squaredNorm();
-      if (d2 < nearest_d2) nearest_d2 = d2, nearest = f;
-      if (d2 <= p.pair_radius * p.pair_radius) consider(f);
-    }
+    auto scan = [&](double reach, bool within_pair) {
+      const auto first = std::lower_bound(xs.begin(), xs.end(), m.x() - reach);
+      const auto last = std::upper_bound(xs.begin(), xs.end(), m.x() + reach);
+      for (auto it = first; it != last; ++it) {
+        const int f = by_x[std::size_t(it - xs.begin())];
+        const double d2 = (centroid.row(f).transpose() - m).squaredNorm();
+        if (d2 < nearest_d2) nearest_d2 = d2, nearest = f;
+        if (within_pair && d2 <= p.pair_radius * p.pair_radius) consider(f);
+      }
+    };
+    const double reach = std::max(p.pair_radius, near_reach);
+    scan(reach, true);
+    // A face outside the slab is farther than `reach`: the nearest found is the nearest unless it is
+    // farther still (a mesh coarser there than its mean edge), when every face is looked at.
+    if (nearest < 0 || nearest_d2 > reach * reach) scan(std::numeric_limits<double>::infinity(), false);
     if (nearest >= 0) consider(nearest);
     out.push_back(p);
   }

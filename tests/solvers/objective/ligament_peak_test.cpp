@@ -10,6 +10,7 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <random>
 
 #include "host/core/error.h"
 #include "host/surfaces/generators.h"
@@ -138,6 +139,51 @@ TEST(LigamentPeak, TheRuleRaisesTheFacesAboutANarrowLigamentByTheFactorsRatio) {
   EXPECT_GE(p[0].W, 10.0);
   // Sizes that do not match are refused.
   EXPECT_THROW(ligament_peaks(mesh, alpha.head(3), W, std::span(&l, 1), 0.3), InputError);
+}
+
+// The faces about each ligament are found in a slab of the faces sorted by x: the same estimate
+// as a scan of every face (the brute-force twin below), on random ligaments over a random field.
+TEST(LigamentPeak, TheSlabSearchIsTheBruteForceScan) {
+  const SurfaceMesh mesh = generate_shape("plate", {{"width", 0.2}, {"height", 0.2}}, 0.01);
+  const int nf = mesh.num_faces();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  Eigen::VectorXd alpha(nf), W(nf);
+  for (int f = 0; f < nf; ++f) alpha(f) = 0.2 + 0.8 * u(rng), W(f) = 10 * u(rng);
+  std::vector<Ligament> ls;
+  for (int k = 0; k < 200; ++k) {
+    Ligament l;
+    l.width = 0.0005 + 0.01 * u(rng);
+    l.radius_a = l.size_a = 0.002 + 0.03 * u(rng);
+    l.radius_b = l.size_b = 0.002 + 0.03 * u(rng);
+    const Vec3 m(0.2 * u(rng) - 0.1, 0.2 * u(rng) - 0.1, 0);
+    l.point_a = m - Vec3(l.width / 2, 0, 0);
+    l.point_b = m + Vec3(l.width / 2, 0, 0);
+    ls.push_back(l);
+  }
+  const std::vector<LigamentPeak> p = ligament_peaks(mesh, alpha, W, ls, 0.3);
+  const RowMatX3d& V = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  for (std::size_t i = 0; i < ls.size(); ++i) {
+    const Ligament& l = ls[i];
+    const double x = pair_parameter(l), S = l.pair_radius();
+    const double Km = two_hole_concentration(x), Kb = two_hole_bending_concentration(x);
+    double best = -1, nearest_d2 = INFINITY;
+    int nearest = -1;
+    auto value = [&](int f) {
+      const double xl = lattice_ligament_parameter(std::clamp(alpha(f), 0.3, 1.0));
+      const double rm = Km / two_hole_concentration(xl), rb = Kb / two_hole_bending_concentration(xl);
+      return std::max({1.0, rm * rm, rb * rb}) * W(f);
+    };
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const Vec3 c = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))).transpose() / 3.0;
+      const double d2 = (c - l.midpoint()).squaredNorm();
+      if (d2 < nearest_d2) nearest_d2 = d2, nearest = f;
+      if (d2 <= S * S) best = std::max(best, value(f));
+    }
+    best = std::max(best, value(nearest));
+    EXPECT_DOUBLE_EQ(p[i].W, best) << i;
+  }
 }
 
 }  // namespace
