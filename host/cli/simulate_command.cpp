@@ -242,7 +242,8 @@ void add_simulate_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "simulate",
       "Solve the static equilibrium of a scene's shell under its supports and loads and write DIR/report.json "
-      "(max displacement, strain energy, compliance, W_max, Newton statistics, timings) and DIR/fields.ply "
+      "(max displacement, strain energy, compliance, W_max, and with --stencils W_peak at the ligaments and W_lig "
+      "at the narrow ones, the discretisation estimate, Newton statistics, timings) and DIR/fields.ply "
       "(per-face alpha, energy density W and displacement on the simulation mesh), DIR/fields.vtu (the same for "
       "ParaView, displacement per vertex) and the pictures render_W.png, render_alpha.png, render_design.png");
   auto opts = std::make_shared<SimulateOptions>();

@@ -357,8 +357,8 @@ void add_verify_command(CLI::App& app) {
       "Verify a design on a conforming mesh (paper §6): cut the base surface along every stencil outline of DIR "
       "(a `cutwork design --out DIR` folder), remesh it isotropically, graded along the outlines, simulate it without fill ratios and "
       "compare with the coarse fill-ratio run; writes DIR/verify/report.json (compliance, strain energy, maximum "
-      "displacement of the material, W_max, the peak energy density recovered on the rims, energy density per "
-      "coarse face, where they differ most), "
+      "displacement of the material, W_max, the peak energy density recovered on the rims against the coarse "
+      "W_peak and the narrow ligaments' W_lig, energy density per coarse face, where they differ most), "
       "DIR/verify/fields.ply (coarse mesh: alpha, W, W_conforming, W_difference) and DIR/verify/conforming.ply");
   auto opts = std::make_shared<VerifyOptions>();
   cmd->add_option("DIR", opts->dir, "a design folder (report.json and stencils.json of `cutwork design`)")

@@ -198,16 +198,36 @@ std::vector<RimPoint> recover_rim(const ShellModel& model, const RowMatX3d& x, c
     std::vector<std::size_t> turns;
     for (std::size_t i = 0; i < n; ++i)
       if (turning(i)) turns.push_back(i);
+    // The end of the outline's segment from i in direction `step` (±1): the first turning vertex
+    // (returned with true), unless the turns of the vertices before it, summed from i, exceed
+    // kOutlineTurn first (returned with false): the outline between is then no straight side of a
+    // polygon but a curve sampled finer than kOutlineTurn per vertex (a circle of many segments as
+    // the remesher's collapses leave it, or a fillet's border), with no corner for the patch to
+    // reach over, and the mesh alone sets the patch. With the turning vertices alone, a 1024-gon's
+    // rim at R/40, turning 0.85° per vertex, made segments of a whole quadrant between the few
+    // vertices that turned by more, and the neck of two such holes read 10% low
+    // (Ligament.AFinelySegmentedCircleReadsAsTheCircle).
+    auto segment_end = [&](std::size_t i, int step) {
+      double summed = 0;
+      std::size_t j = i;
+      for (std::size_t k = 1; k < n; ++k) {
+        const std::size_t next = (i + n + std::size_t(step) * k) % n;
+        if (turning(next)) return std::pair(next, true);
+        summed += angle[next] - 180;
+        if (std::abs(summed) > kOutlineTurn) return std::pair(j, false);
+        j = next;
+      }
+      return std::pair(j, false);
+    };
     std::vector<double> segment(n, 0.0);
     if (turns.size() >= 3) {
       const double perimeter = arc[n];
       for (std::size_t i = 0; i < n; ++i) {
-        // The turning vertices before and after i (cyclically, i itself left out).
-        const auto after = std::upper_bound(turns.begin(), turns.end(), i);
-        const std::size_t b = after == turns.end() ? turns.front() : *after;
-        auto before = std::lower_bound(turns.begin(), turns.end(), i);
-        const std::size_t a = before == turns.begin() ? turns.back() : *(--before);
-        if (!smooth_vertex(a) || !smooth_vertex(b) || (turning(i) && !smooth_vertex(i))) continue;
+        // The segment's ends before and after i (cyclically, i itself left out).
+        const auto [b, b_turns] = segment_end(i, +1);
+        const auto [a, a_turns] = segment_end(i, -1);
+        if (!a_turns || !b_turns || !smooth_vertex(a) || !smooth_vertex(b) || (turning(i) && !smooth_vertex(i)))
+          continue;
         double span = arc[b] - arc[a];
         if (span <= 0) span += perimeter;
         segment[i] = turning(i) ? 0.5 * span : span;

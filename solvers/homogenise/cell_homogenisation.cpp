@@ -26,12 +26,8 @@ namespace cutwork::solvers {
 namespace {
 
 const double kSqrt3 = std::numbers::sqrt3;
-/// Gross area of one hexagonal-lattice cell (one hole) at spacing a = 1.
-const double kCellArea = 0.5 * kSqrt3;
 /// Number of macroscopic load cases: three membrane strains, three curvatures.
 constexpr int kCases = 6;
-/// Radius of the rhombus's inscribed circle (spacing 1): a hole within it stays inside the cell.
-const double kInscribedRadius = 0.25 * kSqrt3;
 /// Triangles across the narrowest ligament, at least (homogenise_cell raises the resolution).
 constexpr double kLigamentElements = 6;
 /// The tiled cell keeps the copies' faces within max(kTileMargin, kTileMarginEdges target edges) of
@@ -61,13 +57,23 @@ Vec3 macro_displacement(int k, const Vec3& X) {
   }
 }
 
-/// Lattice vectors a₁ = (1, 0), a₂ = (½, √3/2).
-const Vec3 kA1(1, 0, 0), kA2(0.5, 0.5 * kSqrt3, 0);
-/// Lattice coordinates (s, t) of X = s a₁ + t a₂.
-Eigen::Vector2d lattice_coordinates(const Vec3& X) {
-  const double t = X.y() / (0.5 * kSqrt3);
-  return {X.x() - 0.5 * t, t};
-}
+/// The lattice at spacing 1: vectors a₁ = (1, 0) and a₂ = (½, √3/2) (hexagonal) or (0, 1) (square),
+/// the gross area of one cell (one hole), and the radius of the period cell's inscribed circle (a
+/// hole within it stays inside the cell: the rhombus's √3/4, the square's ½).
+struct LatticeGeometry {
+  Vec3 a1, a2;
+  double area, inscribed;
+  explicit LatticeGeometry(CellLattice lattice)
+      : a1(1, 0, 0),
+        a2(lattice == CellLattice::Square ? Vec3(0, 1, 0) : Vec3(0.5, 0.5 * kSqrt3, 0)),
+        area(lattice == CellLattice::Square ? 1.0 : 0.5 * kSqrt3),
+        inscribed(lattice == CellLattice::Square ? 0.5 : 0.25 * kSqrt3) {}
+  /// Lattice coordinates (s, t) of X = s a₁ + t a₂.
+  Eigen::Vector2d coordinates(const Vec3& X) const {
+    const double t = X.y() / a2.y();
+    return {X.x() - a2.x() * t, t};
+  }
+};
 
 /// The period cell: the rhombus spanned by a₁, a₂, meshed by the regular triangular grid of spacing
 /// 1/n, with the stencil cut out at its centre and the result remeshed at 1/n (outlines and the
@@ -75,13 +81,13 @@ Eigen::Vector2d lattice_coordinates(const Vec3& X) {
 /// A regular triangular grid of the lattice parallelogram [i0, i1] a₁ + [j0, j1] a₂ (in spacings),
 /// n triangles pairs per spacing; face (i, j, 0/1) of the square (i, j) at 2 ((j − j0) w + (i − i0)) + 0/1,
 /// w = n (i1 − i0).
-SurfaceMesh lattice_grid(int n, int i0, int i1, int j0, int j1) {
+SurfaceMesh lattice_grid(const LatticeGeometry& L, int n, int i0, int i1, int j0, int j1) {
   const int w = n * (i1 - i0), h = n * (j1 - j0);
   RowMatX3d V((w + 1) * (h + 1), 3);
   RowMatX3i F(2 * w * h, 3);
   for (int j = 0; j <= h; ++j)
     for (int i = 0; i <= w; ++i)
-      V.row(j * (w + 1) + i) = (double(i + n * i0) / n * kA1 + double(j + n * j0) / n * kA2).transpose();
+      V.row(j * (w + 1) + i) = (double(i + n * i0) / n * L.a1 + double(j + n * j0) / n * L.a2).transpose();
   for (int j = 0, f = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {
       const int v = j * (w + 1) + i;
@@ -91,8 +97,9 @@ SurfaceMesh lattice_grid(int n, int i0, int i1, int j0, int j1) {
   return SurfaceMesh(V, F, "homogenisation cell");
 }
 
-SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int remesh_iterations) {
-  SurfaceMesh grid = lattice_grid(n, 0, 1, 0, 1);
+SurfaceMesh period_cell(const LatticeGeometry& L, const StencilShape& shape, double scale, int n,
+                        int remesh_iterations) {
+  SurfaceMesh grid = lattice_grid(L, n, 0, 1, 0, 1);
   if (scale <= 0) return grid;
   StencilLibrary library;
   library.add(shape);
@@ -100,9 +107,9 @@ SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int reme
   ro.target_edge_length = 1.0 / n;
   ro.iterations = remesh_iterations;
   StencilParams centre;
-  centre.position = 0.5 * (kA1 + kA2);
+  centre.position = 0.5 * (L.a1 + L.a2);
   centre.scale = scale;
-  if (scale <= kInscribedRadius) {
+  if (scale <= L.inscribed) {
     // The hole inside the rhombus.
     const FaceBvh bvh(grid);
     const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), std::span(&centre, 1));
@@ -112,12 +119,12 @@ SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int reme
   // A hole larger than the rhombus's inscribed circle crosses its sides, and its parts outside come
   // back in through the opposite sides: the 3 × 3 block of cells is cut by the nine holes and the
   // centre cell's pieces kept (each piece lies in one grid triangle, so the sides stay edges).
-  const SurfaceMesh block = lattice_grid(n, -1, 2, -1, 2);
+  const SurfaceMesh block = lattice_grid(L, n, -1, 2, -1, 2);
   std::vector<StencilParams> holes;
   for (int m = -1; m <= 1; ++m)
     for (int k = -1; k <= 1; ++k) {
       StencilParams p = centre;
-      p.position += m * kA1 + k * kA2;
+      p.position += m * L.a1 + k * L.a2;
       holes.push_back(p);
     }
   const FaceBvh bvh(block);
@@ -160,13 +167,13 @@ SurfaceMesh period_cell(const StencilShape& shape, double scale, int n, int reme
 /// `period` receives, per tiled vertex, its periodic class (one per distinct cell vertex modulo the
 /// lattice); `rim`, per tiled vertex, whether it lies on a hole's rim (a boundary edge of the cell
 /// that is not along a side); `centre_faces` the first face of the centre copy.
-SurfaceMesh tile_cell(const SurfaceMesh& cell, double margin, std::vector<int>& period, std::vector<bool>& rim,
-                      int& centre_faces, int& classes) {
+SurfaceMesh tile_cell(const LatticeGeometry& L, const SurfaceMesh& cell, double margin, std::vector<int>& period,
+                      std::vector<bool>& rim, int& centre_faces, int& classes) {
   const int nv = cell.num_vertices(), nf = cell.num_faces();
   // Lattice coordinates, snapped onto the sides so that copies meet exactly.
   std::vector<Eigen::Vector2d> st(static_cast<size_t>(nv));
   for (int v = 0; v < nv; ++v) {
-    Eigen::Vector2d c = lattice_coordinates(cell.vertices().row(v).transpose());
+    Eigen::Vector2d c = L.coordinates(cell.vertices().row(v).transpose());
     for (int k = 0; k < 2; ++k)
       if (std::abs(c[k]) < 1e-9) c[k] = 0;
       else if (std::abs(c[k] - 1) < 1e-9) c[k] = 1;
@@ -214,7 +221,7 @@ SurfaceMesh tile_cell(const SurfaceMesh& cell, double margin, std::vector<int>& 
         const Eigen::Vector2d& c = st[size_t(v)];
         const auto [it, added] = tiled_index.try_emplace(key(c[0] + m, c[1] + n), int(positions.size()));
         if (added) {
-          positions.push_back(cell.vertices().row(v).transpose() + m * kA1 + n * kA2);
+          positions.push_back(cell.vertices().row(v).transpose() + m * L.a1 + n * L.a2);
           const double ps = c[0] - std::floor(c[0] + 1e-12), pt = c[1] - std::floor(c[1] + 1e-12);
           const auto [cls, fresh] = class_index.try_emplace(key(ps, pt), int(class_index.size()));
           period.push_back(cls->second);
@@ -435,11 +442,11 @@ Eigen::Vector2d isotropic_moduli(const Eigen::Matrix3d& C) {
   return {bulk, shear};
 }
 
-double max_hole_fraction(const StencilShape& shape, double ligament) {
-  // The hole's bounding circle inside the hexagonal (Voronoi) cell's inscribed circle, radius ½:
-  // where a packing's bounding circles touch.
+double max_hole_fraction(const StencilShape& shape, double ligament, CellLattice lattice) {
+  // The hole's bounding circle inside the (Voronoi) cell's inscribed circle, radius ½ on both
+  // lattices: where the bounding circles of neighbours touch.
   const double s = 0.5 * (1 - ligament);
-  return std::min(1.0, shape.area * s * s / kCellArea);
+  return std::min(1.0, shape.area * s * s / LatticeGeometry(lattice).area);
 }
 
 CellStiffness homogenise_cell(const StencilShape& shape, const Material& material, double fill_ratio,
@@ -448,14 +455,15 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
     throw InputError("homogenisation: the cell resolution must be in [6, 200] edges per lattice spacing");
   if (!(options.rim_edges >= 0 && options.rim_edges <= 64))
     throw InputError("homogenisation: rim_edges must be in [0, 64] edges per stencil bounding radius");
-  const double lowest = 1 - max_hole_fraction(shape);
+  const LatticeGeometry L(options.lattice);
+  const double lowest = 1 - max_hole_fraction(shape, 0.1, options.lattice);
   if (!(fill_ratio >= lowest && fill_ratio <= 1))
     throw InputError(fmt::format("homogenisation: fill ratio {} of stencil '{}' outside [{:.3f}, 1] (the hole would "
                                  "reach its neighbours)",
                                  fill_ratio, shape.name, lowest));
   CellStiffness out;
   out.fill_ratio = fill_ratio;
-  out.scale = std::sqrt((1 - fill_ratio) * kCellArea / shape.area);
+  out.scale = std::sqrt((1 - fill_ratio) * L.area / shape.area);
   // The narrowest ligament (between neighbouring bounding circles, 1 − 2s spacings) gets at least
   // kLigamentElements triangles across: the bending factor and its peak are otherwise too coarse
   // where holes nearly touch (circles at α = 0.30: g_b 0.173 and K_b 22 at 24 edges per spacing,
@@ -463,15 +471,16 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   const double resolution =
       std::min(200.0, std::max({options.resolution, kLigamentElements / (1 - 2 * out.scale), out.scale > 0 ? options.rim_edges / out.scale : 0.0}));
   out.resolution = resolution;
-  const SurfaceMesh cell = period_cell(shape, out.scale, int(std::lround(resolution)), options.remesh_iterations);
+  const SurfaceMesh cell = period_cell(L, shape, out.scale, int(std::lround(resolution)), options.remesh_iterations);
   out.vertices = cell.num_vertices();
   out.faces = cell.num_faces();
-  out.window_fill_ratio = cell.face_areas().sum() / kCellArea;
+  out.window_fill_ratio = cell.face_areas().sum() / L.area;
 
   std::vector<int> period;
   std::vector<bool> rim;
   int centre = 0, classes = 0;
-  const SurfaceMesh tiled = tile_cell(cell, std::max(kTileMargin, kTileMarginEdges / resolution), period, rim, centre, classes);
+  const SurfaceMesh tiled =
+      tile_cell(L, cell, std::max(kTileMargin, kTileMarginEdges / resolution), period, rim, centre, classes);
   // The shell on the tiled cell: its outer boundary pinned only to satisfy the model's checks (the
   // centre copy's elements and rim patches, the only ones used, stay a margin away from it); the
   // holes' rims are free, for the rim recovery.
@@ -504,7 +513,7 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
     elements.push_back(std::move(el));
   }
   Eigen::MatrixXd fluctuation;
-  const Eigen::Matrix<double, kCases, kCases> C = solve_periodic(elements, classes, &fluctuation) / kCellArea;
+  const Eigen::Matrix<double, kCases, kCases> C = solve_periodic(elements, classes, &fluctuation) / L.area;
   out.membrane = C.topLeftCorner<3, 3>();
   out.bending = C.bottomRightCorner<3, 3>();
   out.membrane_factor = (out.membrane * solid_membrane_stiffness(material).inverse()).trace() / 3;

@@ -6,7 +6,10 @@
 ///
 /// The cell problem. Stencils of one shape, angle 0, scale s with α = 1 − A_shape s² / A_cell, sit
 /// on the hexagonal lattice a₁ = (1, 0), a₂ = (½, √3/2) (spacing a = 1, A_cell = √3/2; the arrangement
-/// of a Poisson-disk packing, isotropic in the plane for a circle). The period cell is the rhombus
+/// of a Poisson-disk packing, isotropic in the plane for a circle; or, with CellOptions::lattice,
+/// the square lattice a₂ = (0, 1), A_cell = 1, whose period cell is the unit square and whose
+/// stiffness is not isotropic: the calibration of the fill stiffness rule uses the hexagonal one,
+/// the square one measures what a square arrangement differs by). The period cell is the rhombus
 /// spanned by a₁, a₂ with the stencil at its centre: a regular triangular grid of spacing
 /// 1/`resolution`, cut along the outline (host/cut) and remeshed (host/mesh/isotropic_remesh; the
 /// outline and the rhombus's sides are kept, so opposite sides carry translated copies of each
@@ -43,6 +46,12 @@
 
 namespace cutwork::solvers {
 
+/// The lattice the stencils perforate the cell problem's sheet on: hexagonal (a₂ = (½, √3/2), the
+/// arrangement of a Poisson-disk packing; isotropic in the plane) or square (a₂ = (0, 1); C* and D*
+/// have the square's symmetry: C11 = C22, no coupling of shear to stretch along the axes, and two
+/// deviatoric moduli, (C11 − C12)/2 for a shear along the axes and C33 at 45° to them).
+enum class CellLattice { Hexagonal, Square };
+
 struct CellOptions {
   /// Target edges per lattice spacing a, in [6, 200]; raised (up to 200) where the narrowest
   /// ligament, 1 − 2s spacings between neighbouring bounding circles, would get fewer than six
@@ -52,6 +61,7 @@ struct CellOptions {
   /// Target edges per stencil bounding radius, at least, in [0, 64]: the resolution is raised (up to
   /// 200 per spacing) so that the rim recovery resolves the hole ("Reading the peak" below). 0: off.
   double rim_edges = 16;
+  CellLattice lattice = CellLattice::Hexagonal;
 };
 
 /// Stress concentration in one macroscopic state of the cell (issue 21 item 5). A state is a
@@ -123,8 +133,9 @@ struct CellStiffness {
 };
 
 /// The largest hole fraction 1 − α at which `shape` still fits the lattice: its bounding circle
-/// within (1 − ligament) of the hexagonal cell's inscribed circle (radius ½ spacing).
-double max_hole_fraction(const StencilShape& shape, double ligament = 0.1);
+/// within (1 − ligament) of the (Voronoi) cell's inscribed circle (radius ½ spacing on both lattices).
+double max_hole_fraction(const StencilShape& shape, double ligament = 0.1,
+                         CellLattice lattice = CellLattice::Hexagonal);
 
 /// Homogenised stiffness of `shape` perforating a sheet of `material` down to fill ratio α ∈
 /// [1 − max_hole_fraction, 1]. Throws InputError for α outside that range or bad options.

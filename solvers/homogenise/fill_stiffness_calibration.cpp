@@ -20,7 +20,7 @@ struct ShapeCurve {
   std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
 };
 
-using CacheKey = std::tuple<std::vector<double>, double, double, double>;
+using CacheKey = std::tuple<std::vector<double>, double, double, double, int>;
 
 /// The ratios of one sample, in ShapeCurve's order: membrane, bending, then the split's four.
 using SampleRatios = std::array<double, 6>;
@@ -36,7 +36,7 @@ void push_ratios(ShapeCurve& c, const SampleRatios& r) {
 
 ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options) {
   const std::vector<double>& grid = calibration_grid();
-  const double lowest = 1 - max_hole_fraction(shape);
+  const double lowest = 1 - max_hole_fraction(shape, 0.1, options.lattice);
   // The cells, one per distinct fill ratio (the grid's points below the lowest one share it), one
   // after the other: two cells factorised at once are not reproducible to the last digits (see
   // calibrate_fill_stiffness).
@@ -102,7 +102,7 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   for (const StencilShape& shape : shapes.shapes()) {
     std::vector<double> polygon;
     for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
-    const CacheKey key{polygon, material.poisson_ratio, options.resolution, options.rim_edges};
+    const CacheKey key{polygon, material.poisson_ratio, options.resolution, options.rim_edges, int(options.lattice)};
     // One calibration at a time in the process, the cache looked up again under the lock: a
     // caller that waited finds the curve another computed (a sweep's concurrent variants calibrate
     // once), and no cell is factorised while another is. Two cell problems of 25k DOFs factorised

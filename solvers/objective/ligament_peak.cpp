@@ -56,6 +56,12 @@ double pair_parameter(const Ligament& l) {
   return l.width > 0 ? S * S / (R_h * l.width) : std::numeric_limits<double>::infinity();
 }
 
+double bending_pair_parameter(const Ligament& l) {
+  const double R_h = l.neck_radius();
+  if (!(R_h > 0)) return 0;
+  return l.width > 0 ? R_h / l.width : std::numeric_limits<double>::infinity();
+}
+
 std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::VectorXd& alpha,
                                          const Eigen::VectorXd& W_peak, std::span<const Ligament> ligaments,
                                          double alpha_floor) {
@@ -84,7 +90,8 @@ std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::Ve
     p.neck_radius = l.neck_radius();
     p.pair_radius = l.pair_radius();
     p.x = pair_parameter(l);
-    const double Km = two_hole_concentration(p.x), Kb = two_hole_bending_concentration(p.x);
+    p.x_bending = bending_pair_parameter(l);
+    const double Km = two_hole_concentration(p.x), Kb = two_hole_bending_concentration(p.x_bending);
     const Vec3 m = l.midpoint();
     int nearest = -1;
     double nearest_d2 = std::numeric_limits<double>::infinity();

@@ -36,8 +36,15 @@
 /// 240-gons, w = R/8 unless said): ρ_b/ρ_a = 0.5, 1.5, 2, 3 (w = R/16), 4 measured K_m = 8.29,
 /// 10.73, 13.13, 25.75, 22.92, and this x reads 8.25, 9.64, 11.84, 24.84, 23.16 from the table:
 /// −0.5%, −10%, −10%, −3.5%, +1% (the 4:1 pair, 8R across in a 24R plate, is raised by the
-/// plate's finite width; read at x = R_h/w instead, the 2:1 pair gives 9.37, −29%). Bending takes
-/// the same x (not measured for unequal pairs). The radii are the
+/// plate's finite width; read at x = R_h/w instead, the 2:1 pair gives 9.37, −29%).
+///
+/// Bent, the neck's shape alone sets it: the bending table is read at x_b = R_h/w. The same pairs
+/// bent about the line of centres (M_tt/M∞; w = R/8, 3:1 at R/16) measured K_b = 4.64, 6.11, 6.52,
+/// 9.84, 7.89 for ρ_b/ρ_a = 0.5, 1.5, 2, 3, 4, and 5.57 for the equal pair; x_b reads 4.62, 6.01,
+/// 6.30, 9.30, 6.86 (−0.3%, −1.6%, −3.4%, −5.5%, −13%, the large pairs again near the plate's
+/// width), where the membrane's x would read 5.63, 6.47, 7.77, 15.1, 14.2 (+21% to +81%). A hole
+/// turns aside a plate's moments over a shorter reach than its membrane forces (Goodier's 1.82
+/// against Kirsch's 3), so the second hole's size adds little to the neck's. The radii are the
 /// rims' own about the closest points (host/export/min_feature.h's Ligament, each capped at its
 /// hole's size), so a star's tip or a flower's petal counts by its own curvature.
 ///
@@ -47,7 +54,7 @@
 /// (0 at α = 1; 3.6 at α = 0.3). The cell's K(α) already holds that lattice's ligament. A ligament
 /// whose x exceeds x_lat(α) concentrates more, by the two-hole factors' ratio:
 ///     W_lig = max over the coarse faces t about the ligament of  W_peak_t · f_t,
-///     f_t = max(1, (K_m(x)/K_m(x_lat))², (K_b(x)/K_b(x_lat))²),   x_lat = x_lat(α̃_t)
+///     f_t = max(1, (K_m(x)/K_m(x_lat))², (K_b(x_b)/K_b(x_lat))²),   x_lat = x_lat(α̃_t)
 /// with α̃_t = α_t clamped to the calibrated curve's lowest sample (below it K(α) is held, so the
 /// lattice it holds is the one at that sample), and "about the ligament" the
 /// faces whose centroid lies within S of its midpoint (and the face nearest it). An uncut face
@@ -80,16 +87,18 @@ inline constexpr const char* kLigamentPeakRule =
     "W_ligament = max over the coarse faces within S of a ligament's midpoint of W_peak_t (K(x)/K(x_lat(alpha_t)))^2 "
     "(at least W_peak_t; the larger of the membrane and the bending ratio), K the neck's rim factor of two "
     "circular holes measured on conforming meshes, "
-    "x = S^2/(R_h w) (w the ligament's width, R_h and S the harmonic and contraharmonic means of the rims' radii of "
-    "curvature there), x_lat(alpha) = R/w of the hexagonal lattice of circles at the face's fill ratio; worst load "
-    "direction";
+    "x = S^2/(R_h w) in tension and R_h/w in bending (w the ligament's width, R_h and S the harmonic and "
+    "contraharmonic means of the rims' radii of curvature there), x_lat(alpha) = R/w of the hexagonal lattice of "
+    "circles at the face's fill ratio; worst load direction";
 
 /// K_m(x) and K_b(x) of the tables above (x ≥ 0; √x growth beyond 64).
 double two_hole_concentration(double x);
 double two_hole_bending_concentration(double x);
 
-/// x = S²/(R_h w) of a ligament (+inf for w = 0).
+/// x = S²/(R_h w) of a ligament (+inf for w = 0): where the membrane table is read.
 double pair_parameter(const Ligament& ligament);
+/// x_b = R_h/w of a ligament (+inf for w = 0): where the bending table is read.
+double bending_pair_parameter(const Ligament& ligament);
 
 /// x_lat(α) = R/w_lat of the hexagonal lattice of circles at fill ratio α (0 at α ≥ 1; +inf at or
 /// below the touching fill ratio 1 − π/(2√3)).
@@ -100,7 +109,8 @@ struct LigamentPeak {
   int ligament = -1;         ///< index into the ligaments given
   double W = 0;              ///< J/m², the estimate W_lig
   double factor = 1;         ///< f_t at the face it was read on (≥ 1)
-  double x = 0;              ///< S²/(R_h w)
+  double x = 0;              ///< S²/(R_h w) (membrane)
+  double x_bending = 0;      ///< R_h/w (bending)
   double x_lattice = 0;      ///< x_lat(α̃) at that face
   double neck_radius = 0;    ///< R_h (m)
   double pair_radius = 0;    ///< S (m)

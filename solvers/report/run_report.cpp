@@ -69,6 +69,7 @@ nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thi
                      {"neck_radius", p.neck_radius},
                      {"pair_radius", p.pair_radius},
                      {"x", number_or_null(p.x)},
+                     {"x_bending", number_or_null(p.x_bending)},
                      {"x_lattice", number_or_null(p.x_lattice)},
                      {"factor", p.factor},
                      {"face", p.face},

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <map>
+#include <random>
 
 #include "host/mesh/bvh.h"
 #include "host/surfaces/generators.h"
@@ -155,6 +158,84 @@ TEST(Ligaments, AStraightRimCountsAsLargeAsItsHoleAndWideOnesAreNotListed) {
   const std::vector<Ligament> wide = find_ligaments(cut, plate.mesh, 1.0);
   ASSERT_EQ(wide.size(), 2u);
   EXPECT_NEAR(wide[1].width, 0.008, 1e-9);
+}
+
+
+/// The hole loops of `cut` as lists of boundary edges (the border, which touches the plate's
+/// outline at x = ±0.1, left out), found by brute force: boundary edges by counting, loops by
+/// joining edges that share a vertex.
+std::vector<std::vector<std::array<int, 2>>> hole_loops(const CutSurface& cut) {
+  std::map<std::pair<int, int>, int> count;
+  for (Eigen::Index f = 0; f < cut.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = cut.faces(f, k), b = cut.faces(f, (k + 1) % 3);
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  std::vector<int> parent(size_t(cut.vertices.rows()));
+  for (size_t v = 0; v < parent.size(); ++v) parent[v] = int(v);
+  const auto root = [&](int v) {
+    while (parent[size_t(v)] != v) v = parent[size_t(v)] = parent[size_t(parent[size_t(v)])];
+    return v;
+  };
+  std::vector<std::array<int, 2>> edges;
+  for (const auto& [e, n] : count)
+    if (n == 1) {
+      edges.push_back({e.first, e.second});
+      parent[size_t(root(e.first))] = root(e.second);
+    }
+  std::map<int, std::vector<std::array<int, 2>>> by_root;
+  for (const auto& e : edges) by_root[root(e[0])].push_back(e);
+  std::vector<std::vector<std::array<int, 2>>> loops;
+  for (auto& [r, l] : by_root) {
+    double xmax = -1;
+    for (const auto& e : l) xmax = std::max(xmax, std::abs(cut.vertices(e[0], 0)));
+    if (xmax < 0.1 - 1e-9) loops.push_back(std::move(l));
+  }
+  return loops;
+}
+
+TEST(Ligaments, TheSweepFindsThePairsOfTheBruteForceScan) {
+  // 110 circles and squares of random sizes at random places (no two overlapping, all inside the
+  // plate), and every pair of holes closer than the relative width listed by scanning every pair of
+  // rim edges of every pair of holes.
+  const Mixed plate;
+  std::mt19937 rng(20261126);
+  std::uniform_real_distribution<double> x(-0.09, 0.09), y(-0.04, 0.04), radius(0.002, 0.008), kind(0, 1);
+  std::vector<Mixed::Hole> holes;
+  for (int tries = 0; holes.size() < 110 && tries < 100000; ++tries) {
+    const Mixed::Hole h{x(rng), y(rng), radius(rng), kind(rng) < 0.5 ? 0 : 1};
+    bool fits = std::abs(h.x) + h.radius < 0.098 && std::abs(h.y) + h.radius < 0.048;
+    for (const Mixed::Hole& o : holes) fits = fits && std::hypot(h.x - o.x, h.y - o.y) > h.radius + o.radius + 2e-4;
+    if (fits) holes.push_back(h);
+  }
+  ASSERT_EQ(holes.size(), 110u);
+  const CutSurface cut = plate.cut(holes);
+  const auto loops = hole_loops(cut);
+  ASSERT_EQ(loops.size(), holes.size());
+  const double relative = 1.0;
+  auto size = [&](const std::vector<std::array<int, 2>>& l) {
+    Eigen::AlignedBox3d box;
+    for (const auto& e : l) box.extend(Vec3(cut.vertices.row(e[0])));
+    return 0.5 * (box.max() - box.min()).maxCoeff();
+  };
+  std::vector<double> expected;
+  for (size_t i = 0; i < loops.size(); ++i)
+    for (size_t j = i + 1; j < loops.size(); ++j) {
+      double d = std::numeric_limits<double>::infinity();
+      for (const auto& ea : loops[i])
+        for (const auto& eb : loops[j])
+          d = std::min(d, segment_distance(cut.vertices.row(ea[0]), cut.vertices.row(ea[1]), cut.vertices.row(eb[0]),
+                                           cut.vertices.row(eb[1]), nullptr, nullptr));
+      if (d <= relative * std::min(size(loops[i]), size(loops[j]))) expected.push_back(d);
+    }
+  std::sort(expected.begin(), expected.end());
+  const std::vector<Ligament> found = find_ligaments(cut, plate.mesh, relative);
+  ASSERT_GE(expected.size(), 40u) << "too few pairs for the comparison to say much";
+  ASSERT_EQ(found.size(), expected.size());
+  for (size_t k = 0; k < found.size(); ++k) {
+    EXPECT_NEAR(found[k].width, expected[k], 1e-12) << "ligament " << k;
+    EXPECT_NEAR((found[k].point_a - found[k].point_b).norm(), found[k].width, 1e-12);
+  }
 }
 
 }  // namespace

@@ -17,7 +17,11 @@
 //    table's (4.08 at x = 4);
 //  - an unequal pair (ρ_b = 2R at w = R/8): K_σ = 13.13, which the rule reads as 11.8 at
 //    x = S²/(R_h w) (−10%); read at x = R_h/w, as the neck's curvature alone would say, it is 9.4:
-//    the pair's size matters, not only the neck's shape.
+//    the pair's size matters, not only the neck's shape. Bent, the same pair's neck moment is
+//    6.52, which the bending table reads at x_b = R_h/w as 6.30 (−3.4%) and at x as 7.77: there the
+//    neck's shape alone sets it;
+//  - a 1024-gon pair reads as the 240-gons: the rim recovery's outline segments end where a curve
+//    sampled finer than 1° per vertex has turned by 1° (rim_recovery.h).
 // Each run takes 3–5 s (30k–45k triangles). It fails where it should: without the focus passes
 // (the grading alone: the neck's rim at w/9.5 at x = 4) the recovered neck reads 5.51 (−3.5%) and
 // the edges 5.78; both checks fail.
@@ -49,7 +53,7 @@ struct NeckRun {
 /// Holes of radius R and Rb with a ligament w between them, pulled across the line of centres or
 /// (`bending`) bent about it: a cantilever clamped along the edge y = −12R with a transverse edge
 /// load on y = +12R, whose moment at the holes is M∞ (surface strain 1e-5).
-NeckRun run_neck(double R, double Rb, double w, int focus_depth, bool bending = false) {
+NeckRun run_neck(double R, double Rb, double w, int focus_depth, bool bending = false, int segments = 240) {
   const double W = 24 * R;
   nlohmann::json doc = builtin_scene_json("plate");
   doc["name"] = "two-holes";
@@ -57,7 +61,7 @@ NeckRun run_neck(double R, double Rb, double w, int focus_depth, bool bending = 
   doc["mesh"]["edge_length"] = R / 4;
   doc["mesh"]["sim_edge_length"] = W / 4;  // unused
   doc["stencils"] =
-      nlohmann::json::array({{{"name", "circle"}, {"kind", "circle"}, {"params", {{"segments", 240}}}}});
+      nlohmann::json::array({{{"name", "circle"}, {"kind", "circle"}, {"params", {{"segments", segments}}}}});
   const double E = doc["material"]["youngs_modulus"].get<double>();
   const double t = doc["material"]["thickness"].get<double>();
   const double traction = E * 1e-5 * t;  // σ∞ = E · 1e-5: linear
@@ -105,6 +109,11 @@ NeckRun run_neck(double R, double Rb, double w, int focus_depth, bool bending = 
   const std::vector<RimPoint> rim = recover_rim(model, X + solver.displacements());
   const RimPeak peak = rim_peak_near(rim, {Vec3::Zero()}, window);
   out.recovered = std::sqrt(peak.energy_density / W_inf);
+  if (std::getenv("NECK_DEBUG"))
+    for (const RimPoint& p : rim)
+      if (p.position.norm() < window)
+        std::cout << "rim " << p.position.transpose() << " r " << p.patch_radius << " nodes " << p.patch_nodes
+                  << " angle " << p.material_angle << " K " << std::sqrt(p.energy_density / W_inf) << "\n";
   if (bending) return out;
   for (const FreeEdgeStrain& e : free_edge_strains(X, mesh.faces(), solver.displacements())) {
     const Vec3 mid = 0.5 * (X.row(e.a) + X.row(e.b)).transpose();
@@ -123,6 +132,16 @@ TEST(Ligament, AnEqualPairsNeckStressIsTheTwoHoleTable) {
     EXPECT_NEAR(run.recovered, table, 0.02 * table) << x;
     EXPECT_NEAR(run.edges, run.recovered, 0.02 * run.recovered) << x;
   }
+}
+
+TEST(Ligament, AFinelySegmentedCircleReadsAsTheCircle) {
+  const double R = 0.01, x = 4;
+  const NeckRun run = run_neck(R, R, R / x, 2, false, 1024);
+  const double table = two_hole_concentration(x);
+  std::cout << "1024-gons, x = R/w = " << x << ": " << run.faces << " faces, neck K recovered " << run.recovered
+            << ", from the rim edges " << run.edges << ", table " << table << "\n";
+  EXPECT_NEAR(run.recovered, table, 0.02 * table);
+  EXPECT_NEAR(run.edges, run.recovered, 0.02 * run.recovered);
 }
 
 TEST(Ligament, ABentNeckIsTheBendingTable) {
@@ -150,6 +169,22 @@ TEST(Ligament, AnUnequalPairIsReadAtItsPairParameter) {
   EXPECT_NEAR(run.edges, run.recovered, 0.02 * run.recovered);
   EXPECT_NEAR(rule, run.recovered, 0.11 * run.recovered);
   EXPECT_LT(neck_only, 0.75 * run.recovered);
+}
+
+TEST(Ligament, AnUnequalPairBentIsReadAtItsNecksShape) {
+  const double R = 0.01, w = R / 8;
+  const NeckRun run = run_neck(R, 2 * R, w, 3, true);
+  Ligament l;
+  l.width = w;
+  l.radius_a = l.size_a = R;
+  l.radius_b = l.size_b = 2 * R;
+  const double rule = two_hole_bending_concentration(bending_pair_parameter(l));
+  const double membrane_x = two_hole_bending_concentration(pair_parameter(l));
+  std::cout << "2:1 pair bent, w = R/8: " << run.faces << " faces, neck M_tt/M_inf " << run.recovered
+            << "; the rule reads " << rule << " (x_b = R_h/w), the membrane's x would read " << membrane_x << "\n";
+  // Measured 6.522 (6.521 with a fourth focus pass); read 6.30 at x_b, 7.77 at x.
+  EXPECT_NEAR(rule, run.recovered, 0.05 * run.recovered);
+  EXPECT_GT(membrane_x, 1.15 * run.recovered);
 }
 
 }  // namespace

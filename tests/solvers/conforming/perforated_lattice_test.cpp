@@ -11,7 +11,8 @@
 // (hexagonal or square, spacing a = 10 mm) covers the plate with its stencils at least a/2 from the
 // border; the stencil scale follows from the fill ratio asked for. The pattern's safety factor
 // s = a/(2 r) − 1 makes the scene's nominal spacing 2 (1 + s) ℓ equal to the lattice's, as a
-// packing of that density has it.
+// packing of that density has it (s = 0 where the bounding circles overlap: stars on the square
+// lattice).
 //
 // CUTWORK_LATTICE_TABLE=1 prints the whole table (every shape, lattice, α, structure and size)
 // instead of the assertions' subset; CUTWORK_LATTICE_SHAPE (circle, star), _LATTICE (hex, square),
@@ -19,6 +20,7 @@
 // a larger plate on the same lattice.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
@@ -58,7 +60,9 @@ nlohmann::json scene_doc(const LatticeCase& c, double bounding_radius, double si
   doc["mechanics"] = {{"stiffness", stiffness}, {"filter", filter}};
   doc["stencils"] = nlohmann::json::array({{{"name", c.shape}, {"kind", c.shape}, {"params", nlohmann::json::object()}}});
   doc["pattern"]["scale"] = bounding_radius;
-  doc["pattern"]["s"] = kSpacing / (2 * bounding_radius) - 1;
+  // A star's bounding circles overlap on the square lattice at α 0.67 (its tips interleave): the
+  // scene's safety factor cannot be negative, and the nominal spacing is then the bounding circles'.
+  doc["pattern"]["s"] = std::max(0.0, kSpacing / (2 * bounding_radius) - 1);
   if (c.cantilever) {
     doc["supports"] = nlohmann::json::array(
         {{{"type", "clamped"}, {"select", {{"entity", "vertices"}, {"x", {{"below", -width / 2 + 1e-6}}}}}}});

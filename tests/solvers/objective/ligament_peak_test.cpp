@@ -60,12 +60,18 @@ TEST(LigamentPeak, UnequalHolesReadTheTableAtTheirPairParameter) {
   l.radius_a = l.radius_b = 0.02;
   l.size_a = l.size_b = 0.02;
   EXPECT_NEAR(pair_parameter(l), 20.0, 1e-12);  // R/w for equal holes
-  // ρ_b = 2 ρ_a: R_h = 4/3 ρ_a, S = 5/3 ρ_a, x = S²/(R_h w) = 25/12 ρ_a/w.
+  EXPECT_NEAR(bending_pair_parameter(l), 20.0, 1e-12);
+  // ρ_b = 2 ρ_a: R_h = 4/3 ρ_a, S = 5/3 ρ_a, x = S²/(R_h w) = 25/12 ρ_a/w, x_b = R_h/w = 4/3 ρ_a/w.
   l.radius_b = l.size_b = 0.04;
   EXPECT_NEAR(pair_parameter(l), 25.0 / 12 * 20, 1e-9);
+  EXPECT_NEAR(bending_pair_parameter(l), 4.0 / 3 * 20, 1e-9);
   // A straight rim counts as large as its hole.
   l.radius_b = std::numeric_limits<double>::infinity();
   EXPECT_NEAR(pair_parameter(l), 25.0 / 12 * 20, 1e-9);
+  EXPECT_NEAR(bending_pair_parameter(l), 4.0 / 3 * 20, 1e-9);
+  l.width = 0;
+  EXPECT_TRUE(std::isinf(bending_pair_parameter(l)));
+  l.width = 0.001;
   // The readings the header quotes for the measured unequal pairs (w = R/8; ρ_b/ρ_a = 3 at R/16).
   struct Pair {
     double ratio, w;
@@ -107,6 +113,7 @@ TEST(LigamentPeak, TheRuleRaisesTheFacesAboutANarrowLigamentByTheFactorsRatio) {
   const double f0 = std::max((K / 3) * (K / 3), (Kb / kb0) * (Kb / kb0));
   EXPECT_NEAR(p[0].W, 2.0 * f0, 1e-9);
   EXPECT_NEAR(p[0].x_lattice, 0.0, 0);
+  EXPECT_NEAR(p[0].x_bending, 20, 1e-9);
   EXPECT_LE((mesh.vertices().row(mesh.faces()(p[0].face, 0)).transpose() - l.midpoint()).norm(), 0.05);
   // A perforated face nearby with W_peak 10 at α = 0.5: the factor at its lattice.
   int near = -1;
@@ -167,7 +174,7 @@ TEST(LigamentPeak, TheSlabSearchIsTheBruteForceScan) {
   for (std::size_t i = 0; i < ls.size(); ++i) {
     const Ligament& l = ls[i];
     const double x = pair_parameter(l), S = l.pair_radius();
-    const double Km = two_hole_concentration(x), Kb = two_hole_bending_concentration(x);
+    const double Km = two_hole_concentration(x), Kb = two_hole_bending_concentration(bending_pair_parameter(l));
     double best = -1, nearest_d2 = INFINITY;
     int nearest = -1;
     auto value = [&](int f) {
