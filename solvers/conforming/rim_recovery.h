@@ -74,7 +74,8 @@
 /// than 1° and less than corner_angle; the mean of the two segments at an outline vertex; none
 /// where either side ends at a corner or a support, or where the turns of the vertices between,
 /// summed from the point, pass 1° first: a curve sampled finer than 1° per vertex, such as a
-/// circle of 1024 segments after the remesher's collapses, has no corners to reach over). The 16-gon then reads 2.907, 2.935, 2.950 σ∞
+/// circle of 1024 segments after the remesher's collapses, has no corners to reach over). The
+/// 16-gon then reads 2.907, 2.935, 2.950 σ∞
 /// (RMS against Kirsch's circle 3.0%, 1.6%, 1.2%) and the sheet's peak settles (0.0626, 0.0630,
 /// 0.0630 J/m² over the peak zoom's steps). Where the mesh is coarser than the outline (the usual
 /// case on the levels: rims at L/4 against a 64-gon of a small stencil), nothing changes.

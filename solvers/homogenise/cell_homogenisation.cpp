@@ -75,9 +75,10 @@ struct LatticeGeometry {
   }
 };
 
-/// The period cell: the rhombus spanned by a₁, a₂, meshed by the regular triangular grid of spacing
+/// The period cell: the parallelogram spanned by a₁, a₂ (the hexagonal lattice's rhombus, the square
+/// lattice's unit square), meshed by the regular triangular grid of spacing
 /// 1/n, with the stencil cut out at its centre and the result remeshed at 1/n (outlines and the
-/// rhombus's sides kept: opposite sides still carry translated copies of each other's vertices).
+/// cell's sides kept: opposite sides still carry translated copies of each other's vertices).
 /// A regular triangular grid of the lattice parallelogram [i0, i1] a₁ + [j0, j1] a₂ (in spacings),
 /// n triangles pairs per spacing; face (i, j, 0/1) of the square (i, j) at 2 ((j − j0) w + (i − i0)) + 0/1,
 /// w = n (i1 − i0).
@@ -110,13 +111,13 @@ SurfaceMesh period_cell(const LatticeGeometry& L, const StencilShape& shape, dou
   centre.position = 0.5 * (L.a1 + L.a2);
   centre.scale = scale;
   if (scale <= L.inscribed) {
-    // The hole inside the rhombus.
+    // The hole inside the cell.
     const FaceBvh bvh(grid);
     const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), std::span(&centre, 1));
     RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
     return SurfaceMesh(std::move(r.vertices), std::move(r.faces), "homogenisation cell");
   }
-  // A hole larger than the rhombus's inscribed circle crosses its sides, and its parts outside come
+  // A hole larger than the cell's inscribed circle crosses its sides, and its parts outside come
   // back in through the opposite sides: the 3 × 3 block of cells is cut by the nine holes and the
   // centre cell's pieces kept (each piece lies in one grid triangle, so the sides stay edges).
   const SurfaceMesh block = lattice_grid(L, n, -1, 2, -1, 2);
