@@ -1,10 +1,11 @@
 #pragma once
 /// Scene-based models for the scaling and assembly benchmarks, and the process's peak memory.
 ///
-///   sheet_model(faces, bending, stiffness)
+///   sheet_model(faces, bending, stiffness, lattice)
 ///                                the built-in `sheet` scene (1 m, pinned boundary, self-weight,
 ///                                h = 2 mm) simulated on its base mesh of about `faces` near-equilateral
-///                                triangles, with the given bending model and fill stiffness rule.
+///                                triangles, with the given bending model and fill stiffness rule
+///                                (calibrated on the given lattice: square adds the anisotropic parts).
 ///                                Cached per arguments, so every benchmark of one run sees the same model.
 ///   process_cpu_seconds()        user and system CPU seconds of the whole process so far (every
 ///                                thread of every pool): the figure to trust on a shared machine.
@@ -27,9 +28,12 @@
 namespace cutwork::bench {
 
 inline const solvers::ShellModel& sheet_model(int faces, BendingModel bending = BendingModel::ShapeOperator,
-                                              FillStiffness stiffness = FillStiffness::Linear) {
-  static std::map<std::tuple<int, BendingModel, FillStiffness>, std::unique_ptr<solvers::ShellModel>> cache;
-  std::unique_ptr<solvers::ShellModel>& slot = cache[{faces, bending, stiffness}];
+                                              FillStiffness stiffness = FillStiffness::Linear,
+                                              PerforationLattice lattice = PerforationLattice::Hexagonal) {
+  static std::map<std::tuple<int, BendingModel, FillStiffness, PerforationLattice>,
+                  std::unique_ptr<solvers::ShellModel>>
+      cache;
+  std::unique_ptr<solvers::ShellModel>& slot = cache[{faces, bending, stiffness, lattice}];
   if (slot) return *slot;
   Scene scene = load_scene("sheet");
   // Near-equilateral triangles of edge e: √3/4 e² each, on the 1 m² sheet.
@@ -37,6 +41,7 @@ inline const solvers::ShellModel& sheet_model(int faces, BendingModel bending = 
   scene.mesh.sim_edge_length = 0;
   scene.mechanics.bending = bending;
   scene.mechanics.stiffness = stiffness;  // homogenised: calibrated, with the isotropic split
+  scene.mechanics.lattice = lattice;
   const SceneMeshes meshes = build_scene_meshes(scene);
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
   slot = std::make_unique<solvers::ShellModel>(meshes.sim, scene.material, lc, solvers::scene_mechanics(scene));

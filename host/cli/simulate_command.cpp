@@ -179,6 +179,10 @@ void run_simulate(const SimulateOptions& opts) {
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
   }
 
+  nlohmann::json lattice_order = nullptr;
+  if (!stencils.empty())
+    lattice_order = solvers::lattice_order_json(scene.mechanics, surface.bvh(), surface.field(), stencils, notes);
+
   const solvers::FillRatioSource fill{with_stencils ? opts.stencils : std::string("uncut"), shell.num_stencils(),
                                       &alpha, &shell.face_alpha()};
   nlohmann::json report =
@@ -191,11 +195,12 @@ void run_simulate(const SimulateOptions& opts) {
     const std::vector<double>& samples = model.mechanics().stiffness_curve.alpha;
     const solvers::LigamentPeakSummary ligaments = solvers::summarize_ligament_peaks(
         *cut, meshes.base, meshes.sim, alpha, summary.peak_energy_density, samples.empty() ? 0.0 : samples.front(),
-        scene.material.thickness);
+        scene.material.thickness, model.mechanics().lattice);
     W_ligament_max = ligaments.W_max;
     report["ligaments"] = solvers::ligament_peak_json(ligaments, scene.material.thickness);
     report["timings"]["ligaments"] = sw.seconds();
   }
+  if (!lattice_order.is_null()) report["lattice_order"] = lattice_order;
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
   const RowMatX3d u = shell.solver().displacements();
@@ -243,7 +248,7 @@ void add_simulate_command(CLI::App& app) {
       "simulate",
       "Solve the static equilibrium of a scene's shell under its supports and loads and write DIR/report.json "
       "(max displacement, strain energy, compliance, W_max, and with --stencils W_peak at the ligaments and W_lig "
-      "at the narrow ones, the discretisation estimate, Newton statistics, timings) and DIR/fields.ply "
+      "at the narrow ones and the stencils' lattice order, the discretisation estimate, Newton statistics, timings) and DIR/fields.ply "
       "(per-face alpha, energy density W and displacement on the simulation mesh), DIR/fields.vtu (the same for "
       "ParaView, displacement per vertex) and the pictures render_W.png, render_alpha.png, render_design.png");
   auto opts = std::make_shared<SimulateOptions>();

@@ -61,6 +61,7 @@ const std::vector<Entry>& entries() {
        nullptr, R"json({
   "mesh": {"generator": "table", "edge_length": 0.035, "sim_edge_length": 0.04},
   )json" CUTWORK_PLYWOOD R"json(,
+  "mechanics": {"lattice": "square", "lattice_axis": [0, 1, 0]},
   "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "area", "force": [0, 0, -1500], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "circle", "kind": "circle"}],

@@ -46,8 +46,23 @@ struct FillStiffnessCurve {
   /// — so a scalar ratio gives the perforated sheet the solid's ν, which makes a cantilever of it
   /// 8% too stiff there (solvers/shell/fill_stiffness_map.h).
   std::vector<double> membrane_bulk, membrane_shear, bending_bulk, bending_shear;
+  /// The square lattice's anisotropy (optional; empty on the hexagonal lattice, whose C* and D* are
+  /// isotropic): q = (G₁ − G₂)/(G₁ + G₂) at each sample, membrane and bending, with G₁ the
+  /// deviatoric modulus along the lattice's axes ((C11 − C12)/2) and G₂ the one at 45° to them
+  /// (C33); |q| < 1, last (α = 1) = 0. The shear part's modulus G = (G₁ + G₂)/2 is the split's;
+  /// the anisotropic part adds ±q G (solvers/shell/fill_stiffness_map.h). On the square lattice of
+  /// circles at α = 0.5: membrane q = +0.57 (straight ligaments along the axes), bending −0.07.
+  std::vector<double> membrane_anisotropy, bending_anisotropy;
   bool empty() const { return alpha.empty(); }
   bool split() const { return !membrane_bulk.empty(); }
+  bool anisotropic() const { return !membrane_anisotropy.empty(); }
+};
+
+/// The lattice the stencils perforate the shell on (scene key "mechanics.lattice"): what the
+/// homogenised stiffness is calibrated on (solvers/homogenise/cell_homogenisation.h).
+enum class PerforationLattice {
+  Hexagonal,  ///< the arrangement of a blue-noise packing; isotropic in the plane (default)
+  Square,     ///< a square grid along mechanics.lattice_axis: stiffer in stretch along its axes
 };
 
 /// Which fill ratio a face's stiffness is evaluated at (scene key "mechanics.filter").
@@ -61,6 +76,11 @@ struct MechanicsSettings {
   BendingModel bending = BendingModel::ShapeOperator;
   FillStiffness stiffness = FillStiffness::Linear;
   FillFilter filter = FillFilter::None;
+  /// The perforation's lattice, and for a square one the direction of one of its axes (a unit
+  /// vector, projected onto each face's tangent plane; a face it is normal to takes the isotropic
+  /// part only).
+  PerforationLattice lattice = PerforationLattice::Hexagonal;
+  Vec3 lattice_axis = Vec3::UnitX();
   /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
   FillStiffnessCurve stiffness_curve;
 };

@@ -197,6 +197,11 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   mechanics.stiffness = stiffness == "homogenised" ? FillStiffness::Homogenised : FillStiffness::Linear;
   const std::string filter = m.string("filter", "cell", {"none", "cell"});
   mechanics.filter = filter == "cell" ? FillFilter::Cell : FillFilter::None;
+  const std::string lattice = m.string("lattice", "hexagonal", {"hexagonal", "square"});
+  mechanics.lattice = lattice == "square" ? PerforationLattice::Square : PerforationLattice::Hexagonal;
+  const Vec3 axis = m.vec3("lattice_axis", Vec3::UnitX());
+  if (!(axis.norm() > 1e-12)) m.fail("lattice_axis", "must be a non-zero direction");
+  mechanics.lattice_axis = axis.normalized();
   m.finish();
   return mechanics;
 }
@@ -447,7 +452,9 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                    {"density", s.material.density}};
   j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                     {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
-                    {"filter", s.mechanics.filter == FillFilter::Cell ? "cell" : "none"}};
+                    {"filter", s.mechanics.filter == FillFilter::Cell ? "cell" : "none"},
+                    {"lattice", s.mechanics.lattice == PerforationLattice::Square ? "square" : "hexagonal"}};
+  if (s.mechanics.lattice == PerforationLattice::Square) j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
   j["supports"] = json::array();
   for (const auto& sp : s.supports)
     j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},

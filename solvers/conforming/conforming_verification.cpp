@@ -295,7 +295,8 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   if (coarse_W_peak.size() == meshes.sim.num_faces()) {
     const std::vector<double>& samples = mechanics.stiffness_curve.alpha;
     v.ligaments = summarize_ligament_peaks(cut, meshes.base, meshes.sim, v.alpha, coarse_W_peak,
-                                           samples.empty() ? 0.0 : samples.front(), scene.material.thickness);
+                                           samples.empty() ? 0.0 : samples.front(), scene.material.thickness,
+                                           mechanics.lattice);
   }
   // The singular corners of the rim recovery from the cut's outline, the same on every level.
   // The rim recovery's singular zones, the same on every level: the minimum feature about the

@@ -443,6 +443,11 @@ Eigen::Vector2d isotropic_moduli(const Eigen::Matrix3d& C) {
   return {bulk, shear};
 }
 
+double lattice_anisotropy(const Eigen::Matrix3d& C) {
+  const double g1 = (C(0, 0) + C(1, 1) - 2 * C(0, 1)) / 4, g2 = C(2, 2);
+  return (g1 - g2) / (g1 + g2);
+}
+
 double max_hole_fraction(const StencilShape& shape, double ligament, CellLattice lattice) {
   // The hole's bounding circle inside the (Voronoi) cell's inscribed circle, radius ½ on both
   // lattices: where the bounding circles of neighbours touch.
@@ -523,6 +528,8 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   const Eigen::Vector2d b = isotropic_moduli(out.bending), b0 = isotropic_moduli(solid_bending_stiffness(material));
   out.membrane_bulk_factor = m[0] / m0[0], out.membrane_shear_factor = m[1] / m0[1];
   out.bending_bulk_factor = b[0] / b0[0], out.bending_shear_factor = b[1] / b0[1];
+  out.membrane_anisotropy = lattice_anisotropy(out.membrane);
+  out.bending_anisotropy = lattice_anisotropy(out.bending);
   stress_concentration(cell, model, period, centre, elements, fluctuation, out);
   return out;
 }

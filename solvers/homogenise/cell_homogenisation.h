@@ -124,6 +124,9 @@ struct CellStiffness {
   /// where C* is isotropic.
   double membrane_bulk_factor = 0, membrane_shear_factor = 0;
   double bending_bulk_factor = 0, bending_shear_factor = 0;
+  /// The anisotropy q = (G₁ − G₂)/(G₁ + G₂) of C* and D* (membrane, bending; lattice_anisotropy):
+  /// 0 on the hexagonal lattice (to the cell's discretisation), the square lattice's otherwise.
+  double membrane_anisotropy = 0, bending_anisotropy = 0;
   int vertices = 0, faces = 0;       ///< of the patch mesh
   double resolution = 0;             ///< edges per spacing the cell was meshed at (CellOptions)
   /// Stress concentration (see concentration_states): K = peak W / mean W over the cell's material,
@@ -149,6 +152,11 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
 /// lattice's two differ, and G averages them). For the solid membrane K = μ + λ, G = μ
 /// (shell_material.h); for the solid plate K = D (1 + ν)/2, G = D (1 − ν)/2.
 Eigen::Vector2d isotropic_moduli(const Eigen::Matrix3d& C);
+
+/// q = (G₁ − G₂)/(G₁ + G₂) of a Voigt stiffness C with the square's symmetry (axes along x and y):
+/// G₁ = (C11 + C22 − 2 C12)/4, the modulus of a deviator along the axes, G₂ = C33, the one at 45°
+/// (their mean is isotropic_moduli's G). 0 for an isotropic C.
+double lattice_anisotropy(const Eigen::Matrix3d& C);
 
 /// Closed-form solid stiffness (Voigt) of `material`: membrane C (N/m) and bending D (N·m).
 Eigen::Matrix3d solid_membrane_stiffness(const Material& material);

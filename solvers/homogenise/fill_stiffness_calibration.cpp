@@ -18,6 +18,7 @@ struct ShapeCurve {
   std::vector<double> membrane, bending;
   std::vector<double> membrane_bulk, membrane_shear, bending_bulk, bending_shear;  ///< the isotropic split
   std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
+  std::vector<double> membrane_anisotropy, bending_anisotropy;  ///< q (the square lattice's)
 };
 
 using CacheKey = std::tuple<std::vector<double>, double, double, double, int>;
@@ -50,6 +51,8 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
   for (double alpha : grid) {
     if (alpha >= 1) {
       push_ratios(c, {1, 1, 1, 1, 1, 1});
+      c.membrane_anisotropy.push_back(0);
+      c.bending_anisotropy.push_back(0);
       // The dilute limit: held at the last cut sample (a vanishing hole still concentrates stress).
       c.membrane_concentration.push_back(c.membrane_concentration.empty() ? 1 : c.membrane_concentration.back());
       c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
@@ -62,6 +65,8 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
                     cell.membrane_shear_factor / w, cell.bending_bulk_factor / w, cell.bending_shear_factor / w});
     c.membrane_concentration.push_back(cell.membrane_concentration);
     c.bending_concentration.push_back(cell.bending_concentration);
+    c.membrane_anisotropy.push_back(cell.membrane_anisotropy);
+    c.bending_anisotropy.push_back(cell.bending_anisotropy);
   }
   return c;
 }
@@ -99,6 +104,12 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     r->assign(grid.size(), 0.0);
   out.membrane_concentration.assign(grid.size(), 1.0);
   out.bending_concentration.assign(grid.size(), 1.0);
+  // The hexagonal lattice is isotropic (its cells' q is round-off): no anisotropic part.
+  const bool square = options.lattice == CellLattice::Square;
+  if (square) {
+    out.membrane_anisotropy.assign(grid.size(), 0.0);
+    out.bending_anisotropy.assign(grid.size(), 0.0);
+  }
   for (const StencilShape& shape : shapes.shapes()) {
     std::vector<double> polygon;
     for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
@@ -122,6 +133,10 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
       out.membrane_shear[k] += c.membrane_shear[k] / shapes.size();
       out.bending_bulk[k] += c.bending_bulk[k] / shapes.size();
       out.bending_shear[k] += c.bending_shear[k] / shapes.size();
+      if (square) {
+        out.membrane_anisotropy[k] += c.membrane_anisotropy[k] / shapes.size();
+        out.bending_anisotropy[k] += c.bending_anisotropy[k] / shapes.size();
+      }
       // Peaks: the worst shape (a face's α does not say which shape cut it).
       out.membrane_concentration[k] = std::max(out.membrane_concentration[k], c.membrane_concentration[k]);
       out.bending_concentration[k] = std::max(out.bending_concentration[k], c.bending_concentration[k]);
@@ -130,14 +145,18 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   // Exactly 1 at α = 1, whatever the rounding of the mean.
   out.membrane.back() = out.bending.back() = 1.0;
   out.membrane_bulk.back() = out.membrane_shear.back() = out.bending_bulk.back() = out.bending_shear.back() = 1.0;
+  if (square) out.membrane_anisotropy.back() = out.bending_anisotropy.back() = 0.0;
   return out;
 }
 
 MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,
                                          const Material& material) {
   MechanicsSettings m = mechanics;
-  if (m.stiffness == FillStiffness::Homogenised && m.stiffness_curve.empty())
-    m.stiffness_curve = calibrate_fill_stiffness(shapes, material);
+  if (m.stiffness == FillStiffness::Homogenised && m.stiffness_curve.empty()) {
+    CellOptions options;
+    options.lattice = m.lattice == PerforationLattice::Square ? CellLattice::Square : CellLattice::Hexagonal;
+    m.stiffness_curve = calibrate_fill_stiffness(shapes, material, options);
+  }
   return m;
 }
 

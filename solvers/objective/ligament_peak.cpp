@@ -43,9 +43,10 @@ double two_hole_concentration(double x) { return read(membrane_curve(), x); }
 
 double two_hole_bending_concentration(double x) { return read(bending_curve(), x); }
 
-double lattice_ligament_parameter(double alpha) {
+double lattice_ligament_parameter(double alpha, PerforationLattice lattice) {
   if (alpha >= 1) return 0;
-  const double r = std::sqrt((1 - alpha) * std::sqrt(3.0) / (2 * std::numbers::pi));  // R/p
+  const double cell = lattice == PerforationLattice::Square ? 1.0 : std::sqrt(3.0) / 2;  // per spacing²
+  const double r = std::sqrt((1 - alpha) * cell / std::numbers::pi);  // R/p
   if (r >= 0.5) return std::numeric_limits<double>::infinity();
   return r / (1 - 2 * r);
 }
@@ -64,7 +65,7 @@ double bending_pair_parameter(const Ligament& l) {
 
 std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::VectorXd& alpha,
                                          const Eigen::VectorXd& W_peak, std::span<const Ligament> ligaments,
-                                         double alpha_floor) {
+                                         double alpha_floor, PerforationLattice lattice) {
   const int nf = sim.num_faces();
   if (alpha.size() != nf || W_peak.size() != nf)
     throw InputError(fmt::format("ligament peaks: {} fill ratios and {} peak densities for {} faces", alpha.size(),
@@ -98,7 +99,7 @@ std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::Ve
     auto consider = [&](int f) {
       if (!std::isfinite(W_peak(f))) return;
       const double a = std::clamp(alpha(f), alpha_floor, 1.0);
-      const double x_lat = lattice_ligament_parameter(a);
+      const double x_lat = lattice_ligament_parameter(a, lattice);
       const double rm = Km / two_hole_concentration(x_lat), rb = Kb / two_hole_bending_concentration(x_lat);
       const double factor = std::max({1.0, rm * rm, rb * rb});
       const double W = factor * W_peak(f);
@@ -134,10 +135,10 @@ std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::Ve
 
 LigamentPeakSummary summarize_ligament_peaks(const CutSurface& cut, const SurfaceMesh& base, const SurfaceMesh& sim,
                                              const Eigen::VectorXd& alpha, const Eigen::VectorXd& W_peak,
-                                             double alpha_floor, double thickness) {
+                                             double alpha_floor, double thickness, PerforationLattice lattice) {
   LigamentPeakSummary s;
   s.ligaments = find_ligaments(cut, base, kLigamentSearchWidth);
-  s.peaks = ligament_peaks(sim, alpha, W_peak, s.ligaments, alpha_floor);
+  s.peaks = ligament_peaks(sim, alpha, W_peak, s.ligaments, alpha_floor, lattice);
   for (std::size_t i = 0; i < s.peaks.size(); ++i) {
     if (s.worst < 0 || s.peaks[i].W > s.W_max) {
       s.W_max = s.peaks[i].W;

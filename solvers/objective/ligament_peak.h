@@ -79,6 +79,7 @@
 #include "host/cut/cut_surface.h"
 #include "host/export/min_feature.h"
 #include "host/mesh/surface_mesh.h"
+#include "host/scene/load_case.h"
 
 namespace cutwork::solvers {
 
@@ -88,8 +89,8 @@ inline constexpr const char* kLigamentPeakRule =
     "(at least W_peak_t; the larger of the membrane and the bending ratio), K the neck's rim factor of two "
     "circular holes measured on conforming meshes, "
     "x = S^2/(R_h w) in tension and R_h/w in bending (w the ligament's width, R_h and S the harmonic and "
-    "contraharmonic means of the rims' radii of curvature there), x_lat(alpha) = R/w of the hexagonal lattice of "
-    "circles at the face's fill ratio; worst load direction";
+    "contraharmonic means of the rims' radii of curvature there), x_lat(alpha) = R/w of the calibration's lattice of "
+    "circles (mechanics.lattice: hexagonal or square) at the face's fill ratio; worst load direction";
 
 /// K_m(x) and K_b(x) of the tables above (x ≥ 0; √x growth beyond 64).
 double two_hole_concentration(double x);
@@ -100,9 +101,12 @@ double pair_parameter(const Ligament& ligament);
 /// x_b = R_h/w of a ligament (+inf for w = 0): where the bending table is read.
 double bending_pair_parameter(const Ligament& ligament);
 
-/// x_lat(α) = R/w_lat of the hexagonal lattice of circles at fill ratio α (0 at α ≥ 1; +inf at or
-/// below the touching fill ratio 1 − π/(2√3)).
-double lattice_ligament_parameter(double alpha);
+/// x_lat(α) = R/w_lat of the lattice of circles at fill ratio α (0 at α ≥ 1; +inf at or below the
+/// touching fill ratio): hexagonal, R/a = √((1 − α)√3/(2π)), touching at 1 − π/(2√3); square,
+/// R/a = √((1 − α)/π), touching at 1 − π/4 (its cell holds more hole at the same α, so its
+/// ligaments are narrower). W_peak's concentration factors are the calibration lattice's, so the
+/// lattice's own ligament is the one a pair's is compared with.
+double lattice_ligament_parameter(double alpha, PerforationLattice lattice = PerforationLattice::Hexagonal);
 
 /// One ligament's estimate.
 struct LigamentPeak {
@@ -124,7 +128,8 @@ struct LigamentPeak {
 /// samples hold (0: none). Throws InputError for sizes that do not match.
 std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::VectorXd& alpha,
                                          const Eigen::VectorXd& W_peak, std::span<const Ligament> ligaments,
-                                         double alpha_floor);
+                                         double alpha_floor,
+                                         PerforationLattice lattice = PerforationLattice::Hexagonal);
 
 /// The ligaments searched: narrower than this × the smaller hole's size (find_ligaments), x ≥ 0.5
 /// for two equal circles, where K_m is within 4% of Kirsch's 3. A dilute face (α → 1, x_lat → 0)
@@ -144,6 +149,7 @@ struct LigamentPeakSummary {
 /// `thickness` (m) only counts the ligaments narrower than it.
 LigamentPeakSummary summarize_ligament_peaks(const CutSurface& cut, const SurfaceMesh& base, const SurfaceMesh& sim,
                                              const Eigen::VectorXd& alpha, const Eigen::VectorXd& W_peak,
-                                             double alpha_floor, double thickness);
+                                             double alpha_floor, double thickness,
+                                             PerforationLattice lattice = PerforationLattice::Hexagonal);
 
 }  // namespace cutwork::solvers

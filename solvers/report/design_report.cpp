@@ -207,7 +207,8 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     const std::vector<double>& samples = mechanics.stiffness_curve.alpha;
     ligaments = summarize_ligament_peaks(out.cut, meshes.base, meshes.sim, result.final_design.alpha,
                                          result.final_design.summary.peak_energy_density,
-                                         samples.empty() ? 0.0 : samples.front(), scene.material.thickness);
+                                         samples.empty() ? 0.0 : samples.front(), scene.material.thickness,
+                                         mechanics.lattice);
     out.W_ligament_max = ligaments.W_max;
     if (ligaments.narrower_than_thickness > 0)
       info.notes.push_back(fmt::format(
@@ -218,8 +219,13 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
           ligaments.ligaments.front().width, scene.fabrication.min_feature));
     info.timings.add("ligaments", sw.seconds());
   }
+  const nlohmann::json lattice_order =
+      final_params.empty() ? nlohmann::json(nullptr)
+                           : lattice_order_json(scene.mechanics, ctx.surface().bvh(), ctx.surface().field(), final_params,
+                                                info.notes);
   info.timings.add("total", since_start.seconds());
   out.report = design_report(scene, meshes, ctx, result, out.cut, info);
+  if (!lattice_order.is_null()) out.report["pattern"]["lattice_order"] = lattice_order;
   if (peak) out.report["structure"]["ligaments"] = ligament_peak_json(ligaments, scene.material.thickness);
   if (!discretisation.is_null()) out.report["discretisation"] = discretisation;
   return out;

@@ -9,6 +9,7 @@
 
 #include "host/core/timer.h"
 #include "host/scene/scene.h"
+#include "host/stencil/frame.h"
 #include "solvers/objective/ligament_peak.h"
 
 namespace cutwork::solvers {
@@ -29,5 +30,15 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
 /// ligaments (at most `listed`, largest W_lig first), each with its width, rims' radii, x, the
 /// lattice's x at the face read, the factor and where it is.
 nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thickness, int listed = 5);
+
+/// The stencils' arrangement (host/pattern/lattice_order.h), measured at their frames on the
+/// surface (`bvh`, `field`) from the scene's lattice axis, as report.json's `lattice_order`: the
+/// stated lattice, how many stencils were measured, the median |ψ₄| (square) and |ψ₆| (hexagonal)
+/// and the square lattice's axes' median angle from the stated axis. Appends a line to `notes`
+/// where the arrangement and mechanics.lattice disagree: a square arrangement (|ψ₄| ≥ 0.7, |ψ₆| <
+/// 0.5) under the hexagonal calibration, a stated square lattice the stencils do not form
+/// (|ψ₄| < 0.5), or its axes more than 10° from lattice_axis.
+nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
+                                  std::span<const StencilParams> stencils, std::vector<std::string>& notes);
 
 }  // namespace cutwork::solvers

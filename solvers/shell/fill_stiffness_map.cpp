@@ -77,11 +77,45 @@ FillStiffnessMap::FillStiffnessMap(const MechanicsSettings& mechanics) {
     throw InputError("homogenised stiffness: no calibrated curve (solvers/homogenise must fill it in first)");
   m_membrane = checked_curve(c.alpha, c.membrane, "membrane");
   m_bending = checked_curve(c.alpha, c.bending, "bending");
+  if (c.anisotropic() && !c.split())
+    throw InputError("stiffness curve: an anisotropy curve needs the isotropic split's bulk and shear curves");
   if (!c.split()) return;
   m_membrane_bulk = checked_curve(c.alpha, c.membrane_bulk, "membrane bulk");
   m_membrane_shear = checked_curve(c.alpha, c.membrane_shear, "membrane shear");
   m_bending_bulk = checked_curve(c.alpha, c.bending_bulk, "bending bulk");
   m_bending_shear = checked_curve(c.alpha, c.bending_shear, "bending shear");
+  if (!c.anisotropic()) return;
+  for (const auto* q : {&c.membrane_anisotropy, &c.bending_anisotropy}) {
+    const char* what = q == &c.membrane_anisotropy ? "membrane" : "bending";
+    if (q->size() != c.alpha.size())
+      throw InputError(fmt::format("{} anisotropy curve: {} samples for {} fill ratios", what, q->size(), c.alpha.size()));
+    for (size_t k = 0; k < q->size(); ++k)
+      if (!(std::abs((*q)[k]) < 1))
+        throw InputError(fmt::format("{} anisotropy curve: sample {} (α = {}, q = {}) is not in (−1, 1)", what, k,
+                                     c.alpha[k], (*q)[k]));
+    if (q->back() != 0.0) throw InputError(fmt::format("{} anisotropy curve: the last sample must be q = 0", what));
+  }
+  m_membrane_anisotropy = MonotoneCurve(c.alpha, c.membrane_anisotropy);
+  m_bending_anisotropy = MonotoneCurve(c.alpha, c.bending_anisotropy);
+}
+
+double FillStiffnessMap::anisotropy(bool bending, double alpha, double* derivative) const {
+  const MonotoneCurve& q = bending ? m_bending_anisotropy : m_membrane_anisotropy;
+  if (q.empty()) {
+    if (derivative) *derivative = 0;
+    return 0;
+  }
+  return q(alpha, derivative);
+}
+
+double FillStiffnessMap::anisotropic_part(bool bending, double alpha, double* derivative, bool factor) const {
+  // g_A = g_G q (or r_A = r_G q): the product rule.
+  double dq = 0, dg = 0;
+  const double q = anisotropy(bending, alpha, derivative ? &dq : nullptr);
+  const double g = factor ? apply(curve(bending, FillPart::Shear), alpha, derivative ? &dg : nullptr)
+                          : ratio(curve(bending, FillPart::Shear), alpha, derivative ? &dg : nullptr);
+  if (derivative) *derivative = dg * q + g * dq;
+  return g * q;
 }
 
 double FillStiffnessMap::apply(const MonotoneCurve& r, double alpha, double* derivative) {

@@ -85,6 +85,45 @@ void membrane_energy_gradient_hessian(const Vec9& x, const MembraneRest& rest, d
   }
 }
 
+void membrane_energy_gradient_hessian(const Vec9& x, const MembraneRest& rest, const Eigen::Matrix3d& C,
+                                      double scale, double* energy, Vec9* gradient, Mat9* hessian) {
+  const Mat32 F = membrane_deformation_gradient(x, rest);
+  const Eigen::Matrix2d E = 0.5 * (F.transpose() * F - Eigen::Matrix2d::Identity());
+  const Vec3 eps(E(0, 0), E(1, 1), 2 * E(0, 1));
+  const Vec3 sigma = C * eps;
+  const double s = scale * rest.area;
+  if (energy) *energy = 0.5 * s * eps.dot(sigma);
+  if (!gradient && !hessian) return;
+  Eigen::Matrix2d S;
+  S << sigma[0], sigma[2], sigma[2], sigma[1];
+  const Mat32 P = F * S;
+  Eigen::Vector2d beta[3];
+  shape_rows(rest.dm_inverse, beta);
+  if (gradient)
+    for (int a = 0; a < 3; ++a) gradient->segment<3>(3 * a) = s * (P * beta[a]);
+  if (!hessian) return;
+  Eigen::Matrix<double, 3, 2> G[3];
+  Eigen::Matrix3d FGt[3];  // F G_aᵀ
+  for (int a = 0; a < 3; ++a) {
+    G[a] << beta[a].x(), 0, 0, beta[a].y(), beta[a].y(), beta[a].x();
+    FGt[a] = F * G[a].transpose();
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      Eigen::Matrix3d blk = FGt[a] * C * FGt[b].transpose();
+      blk.diagonal().array() += beta[a].dot(S * beta[b]);
+      hessian->block<3, 3>(3 * a, 3 * b) = s * blk;
+      if (b != a) hessian->block<3, 3>(3 * b, 3 * a) = s * blk.transpose();
+    }
+  }
+}
+
+Eigen::Matrix3d membrane_constitutive(double mu, double lambda) {
+  Eigen::Matrix3d C;
+  C << 2 * mu + lambda, lambda, 0, lambda, 2 * mu + lambda, 0, 0, 0, mu;
+  return C;
+}
+
 double membrane_energy(const Vec9& x, const MembraneRest& rest, double mu, double lambda, double alpha) {
   double e = 0;
   membrane_energy_gradient_hessian(x, rest, mu, lambda, alpha, &e, nullptr, nullptr);

@@ -52,4 +52,16 @@ void membrane_energy_gradient_hessian(const Vec9& x, const MembraneRest& rest, d
                                       double lambda, double alpha, double* energy, Vec9* gradient,
                                       Mat9* hessian);
 
+/// The same with a general constitutive matrix: Ψ = ½ εᵀ C ε, ε = (E₁₁, E₂₂, 2E₁₂) in the rest
+/// frame of membrane_rest (first axis along X1 − X0), C symmetric (N/m), energy times `scale` A.
+/// What an anisotropic (square-lattice) part needs (fill_stiffness_map.h); for C =
+/// membrane_constitutive(μ, λ) it is the Lamé form above. Hessian blocks:
+///     H_ab = scale A [ (β_aᵀ S β_b) I + F G_aᵀ C G_b Fᵀ ],   G_b = [β_b1 0; 0 β_b2; β_b2 β_b1],
+/// with S the 2×2 stress of σ = C ε and β_a the shape rows (∂F/∂x_a,c = e_c β_aᵀ).
+void membrane_energy_gradient_hessian(const Vec9& x, const MembraneRest& rest, const Eigen::Matrix3d& C,
+                                      double scale, double* energy, Vec9* gradient, Mat9* hessian);
+
+/// The Voigt matrix of Ψ = μ tr(E²) + (λ/2) tr(E)²: [2μ+λ λ 0; λ 2μ+λ 0; 0 0 μ] (N/m).
+Eigen::Matrix3d membrane_constitutive(double mu, double lambda);
+
 }  // namespace cutwork::solvers

@@ -133,7 +133,8 @@ void assemble_shell(const ShellModel& model, const RowMatX3d& x, const Eigen::Ve
     switch (model.element(e).part) {
       case FillPart::Whole: visit_element(model, x, e, element_fill_factor(model, alpha, e), need, scatter(e)); return;
       case FillPart::Bulk: visit_split_element(model, x, alpha, e, need, scatter(e)); return;
-      case FillPart::Shear: return;  // evaluated with its bulk part, which has the same nodes
+      case FillPart::Shear:
+      case FillPart::Anisotropy: return;  // evaluated with its bulk part, which has the same nodes
     }
   });
   out.energy = ordered_sum(out.element_energy);

@@ -43,7 +43,8 @@ void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double sc
                    Visit&& visit);
 
 /// Under the isotropic split: the membrane or bend whose bulk part is element e, whole, with each
-/// part scaled by its fill factor at `alpha` — one evaluation of both parts (the energy is linear in
+/// part (bulk, shear and, on a square lattice, anisotropic) scaled by its fill factor at `alpha` —
+/// one evaluation of all parts (the energy is linear in
 /// the constitutive constants), which the assembly uses in place of the two elements.
 template <typename Visit>
 void visit_split_element(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha, int e,
@@ -102,6 +103,18 @@ void visit_membrane(const ShellModel& model, const RowMatX3d& x, int index, cons
   visit(l);
 }
 
+/// Membrane `index` with a general Voigt constitutive matrix C (N/m) in its rest frame.
+template <typename Visit>
+void visit_membrane_general(const ShellModel& model, const RowMatX3d& x, int index, const Eigen::Matrix3d& C, double scale,
+                    ElementNeed need, Visit&& visit) {
+  ElementLocal<3> l;
+  for (int a = 0; a < 3; ++a) l.vertex[a] = model.mesh().faces()(index, a);
+  membrane_energy_gradient_hessian(membrane_positions(model, x, index), model.membranes()[index], C, scale, &l.energy,
+                                   need != ElementNeed::Energy ? &l.gradient : nullptr,
+                                   need == ElementNeed::Hessian ? &l.hessian : nullptr);
+  visit(l);
+}
+
 /// Shape-operator bend `index` with constitutive matrix C (dimensionless), energy times scale · D.
 template <typename Visit>
 void visit_bend(const ShellModel& model, const RowMatX3d& x, int index, const Eigen::Matrix3d& C, double scale,
@@ -125,13 +138,25 @@ void visit_split_element(const ShellModel& model, const RowMatX3d& x, const Eige
   const double a = alpha[bend ? model.bends()[size_t(ref.index)].face : ref.index];
   const FillStiffnessMap& g = model.fill_stiffness();
   const double bulk = g.factor(bend, FillPart::Bulk, a), shear = g.factor(bend, FillPart::Shear, a);
-  if (!bend) {
+  const bool aniso = g.anisotropic();
+  if (!bend && !aniso) {
     const std::array<double, 2> b = model.membrane_lame(FillPart::Bulk), s = model.membrane_lame(FillPart::Shear);
     detail::visit_membrane(model, x, ref.index, {bulk * b[0] + shear * s[0], bulk * b[1] + shear * s[1]}, 1.0, need,
                            visit);
+  } else if (!bend) {
+    const int f = ref.index;
+    const Eigen::Matrix3d C = bulk * model.membrane_part_constitutive(FillPart::Bulk, f) +
+                              shear * model.membrane_part_constitutive(FillPart::Shear, f) +
+                              g.factor(false, FillPart::Anisotropy, a) *
+                                  model.membrane_part_constitutive(FillPart::Anisotropy, f);
+    detail::visit_membrane_general(model, x, f, C, 1.0, need, visit);
   } else {
-    const Eigen::Matrix3d C =
+    Eigen::Matrix3d C =
         bulk * model.bending_constitutive(FillPart::Bulk) + shear * model.bending_constitutive(FillPart::Shear);
+    if (aniso) {
+      const int f = model.bends()[size_t(ref.index)].face;
+      C += g.factor(true, FillPart::Anisotropy, a) * model.bending_part_constitutive(FillPart::Anisotropy, f);
+    }
     detail::visit_bend(model, x, ref.index, C, 1.0, need, visit);
   }
 }
@@ -143,10 +168,16 @@ void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double sc
   const ElementRef ref = model.element(e);
   switch (ref.kind) {
     case ElementKind::Membrane:
-      detail::visit_membrane(model, x, ref.index, model.membrane_lame(ref.part), scale, need, visit);
+      if (ref.part == FillPart::Anisotropy)
+        detail::visit_membrane_general(model, x, ref.index, model.membrane_part_constitutive(ref.part, ref.index), scale,
+                                       need, visit);
+      else
+        detail::visit_membrane(model, x, ref.index, model.membrane_lame(ref.part), scale, need, visit);
       return;
     case ElementKind::Bend:
-      detail::visit_bend(model, x, ref.index, model.bending_constitutive(ref.part), scale, need, visit);
+      detail::visit_bend(model, x, ref.index,
+                         model.bending_part_constitutive(ref.part, model.bends()[size_t(ref.index)].face), scale, need,
+                         visit);
       return;
     case ElementKind::Hinge: {
       const ShellHinge& h = model.hinges()[ref.index];

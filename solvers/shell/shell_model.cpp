@@ -146,11 +146,10 @@ BlockAssembly assembly_pattern(const ShellModel& model) {
     element_nodes.push_back(BlockAssembly::nodes({node(h.v[0]), node(h.v[1]), node(h.v[2]), node(h.v[3])}));
   for (const ClampHinge& c : model.clamp_hinges())
     element_nodes.push_back(BlockAssembly::nodes({node(c.v[0]), node(c.v[1]), node(c.v[2])}));
-  if (model.fill_stiffness().split()) {
-    // The shear parts: the same nodes as the membranes' and the bends' bulk parts.
-    const std::size_t bulk_parts = std::size_t(nf) + model.bends().size();
+  // The shear and anisotropic parts: the same nodes as the membranes' and the bends' bulk parts.
+  const std::size_t bulk_parts = std::size_t(nf) + model.bends().size();
+  for (int extra = int(model.fill_stiffness().split()) + int(model.fill_stiffness().anisotropic()); extra > 0; --extra)
     for (std::size_t e = 0; e < bulk_parts; ++e) element_nodes.push_back(element_nodes[e]);
-  }
   return BlockAssembly(model.num_nodes(), element_nodes);
 }
 
@@ -198,6 +197,22 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   m_membranes.resize(nf);
   for (int f = 0; f < nf; ++f)
     m_membranes[f] = membrane_rest(X.row(F(f, 0)), X.row(F(f, 1)), X.row(F(f, 2)));
+  // The square lattice's axis in each face's rest frame (first axis X1 − X0, as membrane_rest and
+  // shape_operator_rest lay the face out).
+  if (m_fill_stiffness.anisotropic()) {
+    if (m_mechanics.lattice != PerforationLattice::Square)
+      throw InputError("an anisotropic stiffness curve is the square lattice's: mechanics.lattice must be square");
+    m_lattice_orientation.assign(std::size_t(nf), Eigen::Vector2d::Zero());
+    const Vec3 axis = m_mechanics.lattice_axis.normalized();
+    for (int f = 0; f < nf; ++f) {
+      const Vec3 e1 = X.row(F(f, 1)) - X.row(F(f, 0)), e2 = X.row(F(f, 2)) - X.row(F(f, 0));
+      const Vec3 n = e1.cross(e2).normalized(), u1 = e1.normalized(), u2 = n.cross(u1);
+      const Eigen::Vector2d a(axis.dot(u1), axis.dot(u2));
+      if (a.norm() < 1e-3) continue;
+      const double phi = std::atan2(a.y(), a.x());
+      m_lattice_orientation[std::size_t(f)] = Eigen::Vector2d(std::cos(4 * phi), std::sin(4 * phi));
+    }
+  }
   if (m_mechanics.bending == BendingModel::ShapeOperator)
     build_bends();
   else
@@ -220,6 +235,28 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
         "supported vertices, and there is no self-weight): add a load");
 
   m_assembly = assembly_pattern(*this);
+}
+
+Eigen::Matrix3d ShellModel::bending_part_constitutive(FillPart part, int face) const {
+  if (part != FillPart::Anisotropy) return bending_constitutive(part);
+  const double c = m_lattice_orientation[std::size_t(face)].x(), s = m_lattice_orientation[std::size_t(face)].y();
+  Eigen::Matrix3d C;
+  C << c / 2, -c / 2, s, -c / 2, c / 2, -s, s, -s, -2 * c;
+  return (1 - m_material.poisson_ratio) * C;
+}
+
+Eigen::Matrix3d ShellModel::membrane_part_constitutive(FillPart part, int face) const {
+  const double mu = m_stiffness.mu, lambda = m_stiffness.lambda;
+  Eigen::Matrix3d C;
+  switch (part) {
+    case FillPart::Whole: return membrane_constitutive(mu, lambda);
+    case FillPart::Bulk: C << 1, 1, 0, 1, 1, 0, 0, 0, 0; return (mu + lambda) * C;
+    case FillPart::Shear: C << 1, -1, 0, -1, 1, 0, 0, 0, 1; return mu * C;
+    case FillPart::Anisotropy: break;
+  }
+  const double c = m_lattice_orientation[std::size_t(face)].x(), s = m_lattice_orientation[std::size_t(face)].y();
+  C << c, -c, s, -c, c, -s, s, -s, -c;
+  return mu * C;
 }
 
 bool ShellModel::edge_clamped(int a, int b) const { return m_load_case.clamped[a] && m_load_case.clamped[b]; }

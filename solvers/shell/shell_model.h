@@ -16,6 +16,9 @@
 /// is two elements over the same nodes, its bulk part and its shear part, each with its own fill
 /// factor: the first blocks of membranes and bends then hold the bulk parts, and the shear parts
 /// follow the clamp hinges (membranes, then bends). Hinges and clamp hinges are never split.
+/// On a square lattice (FillStiffnessMap::anisotropic()) each membrane and bend has a third part,
+/// the anisotropic one of fill_stiffness_map.h, in the lattice's orientation at the face
+/// (lattice_orientation()); those parts follow the shear parts (membranes, then bends).
 ///
 /// Supports. A pinned vertex is fixed in space: its three DOFs are eliminated (the assembled system
 /// is the reduced one over the free vertices); a pinned edge is a simple support (moment-free: a
@@ -119,8 +122,20 @@ class ShellModel {
   /// Ĉ of shape_operator_energy.h for the material's ν, or its bulk or shear part:
   /// ((1 + ν)/2) [1 1 0; 1 1 0; 0 0 0] and (1 − ν) [½ −½ 0; −½ ½ 0; 0 0 2], which add up to Ĉ.
   const Eigen::Matrix3d& bending_constitutive(FillPart part = FillPart::Whole) const {
-    return m_bending_constitutive[int(part)];
+    return m_bending_constitutive[int(part == FillPart::Anisotropy ? FillPart::Whole : part)];
   }
+  /// Ĉ of one part of face f's bend: bending_constitutive(part), or for the anisotropic part
+  /// (1 − ν) [c/2 −c/2 s; −c/2 c/2 −s; s −s −2c], (c, s) = lattice_orientation()[f]
+  /// (kᵀĈ_A k = 2(1 − ν)[c(e₁² − e₂²) + 2s e₁e₂], e₁ = (k₁₁ − k₂₂)/2, e₂ = k₁₂).
+  Eigen::Matrix3d bending_part_constitutive(FillPart part, int face) const;
+  /// Voigt matrix (N/m; strains E₁₁, E₂₂, 2E₁₂ in face f's rest frame) of one part of f's membrane:
+  /// whole membrane_constitutive(μ, λ); bulk (μ + λ)[1 1 0; 1 1 0; 0 0 0]; shear μ[1 −1 0; −1 1 0;
+  /// 0 0 1]; anisotropic μ[c −c s; −c c −s; s −s −c] (Ψ_A = 2μ[c(e₁² − e₂²) + 2s e₁e₂]).
+  Eigen::Matrix3d membrane_part_constitutive(FillPart part, int face) const;
+  /// #F: (cos 4φ, sin 4φ) with φ the angle of the square lattice's axis (mechanics.lattice_axis,
+  /// projected onto the face) from the first axis of the face's rest frame (X1 − X0, the frame of
+  /// both elements); zero where the axis is normal to the face (within 1e-3) and without anisotropy.
+  const std::vector<Eigen::Vector2d>& lattice_orientation() const { return m_lattice_orientation; }
   /// The membrane's (μ, λ) (N/m) of ShellStiffness, or of its bulk part (0, μ + λ): ((μ + λ)/2) tr(E)²,
   /// or its shear part (μ, −μ): μ |dev E|².
   std::array<double, 2> membrane_lame(FillPart part = FillPart::Whole) const {
@@ -155,11 +170,13 @@ class ShellModel {
   const std::vector<ShellHinge>& hinges() const { return m_hinges; }
   const std::vector<ClampHinge>& clamp_hinges() const { return m_clamps; }
   int num_elements() const {
-    const std::size_t split = m_fill_stiffness.split() ? m_membranes.size() + m_bends.size() : 0;
-    return int(m_membranes.size() + m_bends.size() + m_hinges.size() + m_clamps.size() + split);
+    const std::size_t parts = m_membranes.size() + m_bends.size();
+    const std::size_t extra = (m_fill_stiffness.split() ? parts : 0) + (m_fill_stiffness.anisotropic() ? parts : 0);
+    return int(m_membranes.size() + m_bends.size() + m_hinges.size() + m_clamps.size() + extra);
   }
   /// Kind, index and part of element e ∈ [0, num_elements()): membranes, bends, hinges, clamp
-  /// hinges; under the split, the membranes' and the bends' shear parts after them.
+  /// hinges; under the split, the membranes' and the bends' shear parts after them, then (square
+  /// lattice) their anisotropic parts.
   ElementRef element(int e) const {
     const int nf = int(m_membranes.size()), nb = int(m_bends.size()), nh = int(m_hinges.size()),
               nc = int(m_clamps.size());
@@ -170,7 +187,10 @@ class ShellModel {
     if (e < nf + nb + nh + nc) return {ElementKind::Clamp, e - nf - nb - nh};
     e -= nf + nb + nh + nc;
     if (e < nf) return {ElementKind::Membrane, e, FillPart::Shear};
-    return {ElementKind::Bend, e - nf, FillPart::Shear};
+    if (e < nf + nb) return {ElementKind::Bend, e - nf, FillPart::Shear};
+    e -= nf + nb;
+    if (e < nf) return {ElementKind::Membrane, e, FillPart::Anisotropy};
+    return {ElementKind::Bend, e - nf, FillPart::Anisotropy};
   }
 
   /// Pattern, scatter map and colouring of the reduced Hessian (built once).
@@ -210,6 +230,7 @@ class ShellModel {
   std::vector<ShellBend> m_bends;
   std::vector<ShellHinge> m_hinges;
   std::vector<ClampHinge> m_clamps;
+  std::vector<Eigen::Vector2d> m_lattice_orientation;
   BlockAssembly m_assembly;
 };
 

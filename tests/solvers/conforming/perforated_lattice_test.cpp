@@ -9,7 +9,9 @@
 // Scenes: a 0.2 m × 0.1 m PA12 plate, 3 mm, either a cantilever (clamped at x = −0.1, 0.1 N spread
 // along the free short side) or clamped round its whole boundary under 100 Pa. The lattice
 // (hexagonal or square, spacing a = 10 mm) covers the plate with its stencils at least a/2 from the
-// border; the stencil scale follows from the fill ratio asked for. The pattern's safety factor
+// border; the stencil scale follows from the fill ratio asked for. A square case's scene says
+// `"lattice": "square"` (its axis along x, the plate's length), so the coarse rule is calibrated on
+// the square lattice. The pattern's safety factor
 // s = a/(2 r) − 1 makes the scene's nominal spacing 2 (1 + s) ℓ equal to the lattice's, as a
 // packing of that density has it (s = 0 where the bounding circles overlap: stars on the square
 // lattice).
@@ -25,6 +27,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -47,6 +50,7 @@ struct LatticeCase {
   double alpha = 0.67;           ///< fill ratio of the lattice cell
   bool cantilever = true;        ///< else clamped round the boundary under pressure
   double width = 0.2, height = 0.1;  ///< of the plate (m)
+  const char* calibration = "square";  ///< mechanics.lattice of a square case
 };
 
 nlohmann::json scene_doc(const LatticeCase& c, double bounding_radius, double sim_edge_length, const char* stiffness,
@@ -58,6 +62,9 @@ nlohmann::json scene_doc(const LatticeCase& c, double bounding_radius, double si
   doc["mesh"]["edge_length"] = std::min(0.005, sim_edge_length);
   doc["mesh"]["sim_edge_length"] = sim_edge_length;
   doc["mechanics"] = {{"stiffness", stiffness}, {"filter", filter}};
+  // The square lattice runs along x (the default lattice_axis); `lattice` "hexagonal" gives it the
+  // hexagonal lattice's calibration instead, as before the rule knew the square one.
+  if (!c.hexagonal) doc["mechanics"]["lattice"] = c.calibration;
   doc["stencils"] = nlohmann::json::array({{{"name", c.shape}, {"kind", c.shape}, {"params", nlohmann::json::object()}}});
   doc["pattern"]["scale"] = bounding_radius;
   // A star's bounding circles overlap on the square lattice at α 0.67 (its tips interleave): the
@@ -246,15 +253,27 @@ TEST(PerforatedLattice, CellFilteredComplianceDoesNotDependOnTheTriangleSize) {
 // 0.12 m × 0.06 m cantilever at triangles one stencil diameter across: the filtered homogenised rule
 // is closer than the per-face homogenised rule, which is closer than the paper's linear rule, and
 // within the 3%. The full table (CUTWORK_LATTICE_TABLE=1, in docs/DESIGN.md) has the rest:
-// every hexagonal cantilever within 1.2% at 1 d and 2 d; square lattices up to 7% too stiff (the
-// calibration is the hexagonal lattice's); plates clamped all round at α 0.5 9–12% too soft.
-TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate) {
+// every hexagonal cantilever within 1.2% at 1 d and 2 d, the square ones (with the square
+// lattice's calibration) within 2.7%; plates clamped all round at α 0.5 9–12% too soft.
+/// Case c on the 0.12 m × 0.06 m plate of the assertions below: its stencil scale and stencils.
+struct SmallPlate {
   LatticeCase c;
-  c.width = 0.12;
-  c.height = 0.06;
-  const Scene probe = parse_scene(scene_doc(c, 0.003, 0.01, "linear", "none"), "test:lattice");
-  const double scale = lattice_scale(c, scene_stencil_library(probe));
-  const std::vector<StencilParams> stencils = lattice_stencils(c, scale);
+  double scale = 0;
+  std::vector<StencilParams> stencils;
+  explicit SmallPlate(LatticeCase lattice_case) : c(std::move(lattice_case)) {
+    c.width = 0.12;
+    c.height = 0.06;
+    const Scene probe = parse_scene(scene_doc(c, 0.003, 0.01, "linear", "none"), "test:lattice");
+    scale = lattice_scale(c, scene_stencil_library(probe));
+    stencils = lattice_stencils(c, scale);
+  }
+};
+
+TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate) {
+  const SmallPlate plate{LatticeCase{}};
+  const LatticeCase& c = plate.c;
+  const double scale = plate.scale;
+  const std::vector<StencilParams>& stencils = plate.stencils;
   const Reference ref = conforming_reference(c, scale, stencils, 150'000);
   ASSERT_GE(ref.levels, 2);
   const double linear = compliance(c, scale, 1, "linear", "none", stencils) / ref.compliance;
@@ -265,10 +284,47 @@ TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate
               ref.levels, 100 * ref.error_bar / ref.compliance, linear, per_face, filtered);
   EXPECT_LT(std::abs(filtered - 1), std::abs(per_face - 1));
   EXPECT_LT(std::abs(per_face - 1), std::abs(linear - 1));
-  // The target at 1 d: measured 0.989 (1.004 before the filter stopped at the clamp),
+  // The target at 1 d: measured 0.987 (1.004 before the filter stopped at the clamp),
   // 0.930 with the scalar g (which gave the perforated plate the solid's Poisson ratio), 0.791 with
   // the linear rule.
   EXPECT_NEAR(filtered, 1.0, 0.03);
+}
+
+// The square lattice (mechanics.lattice "square"): circles at α 0.5 on a 0.12 m × 0.06 m
+// cantilever along the lattice's axis, triangles one and two stencil diameters across. With the
+// square lattice's calibration (its bulk, mean shear and anisotropic parts) the filtered rule is
+// closer to the conforming reference than with the hexagonal lattice's (as before the rule knew the
+// square one; it is too stiff, by 4.5% and 7.6% here); the rule's own error, over the coarse mesh's
+// (the uncut plate's coarse / conforming on the same mesh, 1.007 at 1 d), is within the 3%
+// at 1 d, and the raw ratio within its 5% at 2 d. Measured: 1.035 (over the uncut 1.027) and 1.000,
+// against 0.955 and 0.924 with the hexagonal calibration; the 0.2 m plate of the table: 1.027 and
+// 1.001. At 1 d the raw ratio misses 3% by 0.5% on this plate: the triangles (0.8 spacings across)
+// alias with the lattice, as the per-face rule's 0.929 there shows.
+TEST(PerforatedLattice, TheSquareLatticesCalibrationIsCloserAlongItsAxes) {
+  LatticeCase square_case;
+  square_case.hexagonal = false;
+  square_case.alpha = 0.5;
+  const SmallPlate plate{square_case};
+  const LatticeCase& c = plate.c;
+  const double scale = plate.scale;
+  const std::vector<StencilParams>& stencils = plate.stencils;
+  const Reference ref = conforming_reference(c, scale, stencils, 150'000);
+  const Reference solid = conforming_reference(c, scale, {}, 150'000);
+  ASSERT_GE(ref.levels, 2);
+  ASSERT_GE(solid.levels, 2);
+  LatticeCase hex_calibrated = c;
+  hex_calibrated.calibration = "hexagonal";
+  for (const double size : {1.0, 2.0}) {
+    const double square = compliance(c, scale, size, "homogenised", "cell", stencils) / ref.compliance;
+    const double hexagonal = compliance(hex_calibrated, scale, size, "homogenised", "cell", stencils) / ref.compliance;
+    const double uncut = compliance(c, scale, size, "linear", "none", {}) / solid.compliance;
+    std::printf("square lattice α 0.5, h = %.0f d: coarse / conforming C∞ (%d levels, error bar %.1f%%): square "
+                "calibration %.3f (over the uncut plate's %.3f: %.3f), hexagonal calibration %.3f\n",
+                size, ref.levels, 100 * ref.error_bar / ref.compliance, square, uncut, square / uncut, hexagonal);
+    EXPECT_LT(std::abs(square - 1), std::abs(hexagonal - 1)) << size;
+    if (size == 1.0) EXPECT_NEAR(square / uncut, 1.0, 0.03);
+    else EXPECT_NEAR(square, 1.0, 0.05);
+  }
 }
 
 TEST(PerforatedLattice, Table) {

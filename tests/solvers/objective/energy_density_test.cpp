@@ -15,10 +15,13 @@ namespace {
 
 TEST(EnergyDensity, VectorJacobianProductsMatchCentralDifferences) {
  for (FillStiffness stiffness : {FillStiffness::Linear, FillStiffness::Homogenised})
+ for (bool square : {false, true})
  for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
+  if (square && stiffness == FillStiffness::Linear) continue;
   SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
   SCOPED_TRACE(stiffness == FillStiffness::Homogenised ? "homogenised" : "linear");
-  test::CapFixture fx(34, bending, stiffness);
+  SCOPED_TRACE(square ? "square lattice" : "");
+  test::CapFixture fx(34, bending, stiffness, square);
   const ShellModel& model = *fx.model;
   const RowMatX3d x = fx.perturbed(35);
   std::mt19937 rng(36);

@@ -52,6 +52,13 @@ TEST(LigamentPeak, TheLatticeLigamentFollowsTheHexagonalPacking) {
   EXPECT_NEAR(lattice_ligament_parameter(0.3), 3.62, 0.01);
   // Touching circles: no ligament.
   EXPECT_TRUE(std::isinf(lattice_ligament_parameter(1 - std::numbers::pi / (2 * std::sqrt(3.0)) - 1e-12)));
+  // The square lattice: α = 1 − π (R/p)², so R/p = 0.4 at α = 1 − 0.16π, x = 2 again; at the same
+  // α its holes are larger than the hexagonal lattice's and its ligaments narrower.
+  const PerforationLattice square = PerforationLattice::Square;
+  EXPECT_NEAR(lattice_ligament_parameter(1 - std::numbers::pi * rp * rp, square), 2.0, 1e-12);
+  EXPECT_GT(lattice_ligament_parameter(0.6, square), lattice_ligament_parameter(0.6));
+  EXPECT_TRUE(std::isinf(lattice_ligament_parameter(1 - std::numbers::pi / 4 - 1e-12, square)));
+  EXPECT_TRUE(std::isfinite(lattice_ligament_parameter(1 - std::numbers::pi / 4 + 1e-9, square)));
 }
 
 TEST(LigamentPeak, UnequalHolesReadTheTableAtTheirPairParameter) {

@@ -187,9 +187,11 @@ TEST(PeakEnergyDensity, ConcentrationRampsToOneNearTheUncutFaceWithAContinuousSl
 // Σ c_t W_peak_t: its gradients in x and α (at fixed blend weights) against central differences,
 // with fill ratios across the samples, between them and in the ramp, for both bending models.
 TEST(PeakEnergyDensity, VectorJacobianProductsMatchCentralDifferences) {
+  for (bool square : {false, true})
   for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
     SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
-    test::CapFixture fx(61, bending, FillStiffness::Homogenised);
+    SCOPED_TRACE(square ? "square lattice" : "hexagonal lattice");
+    test::CapFixture fx(61, bending, FillStiffness::Homogenised, square);
     const ShellModel model = concentrated(fx);
     const ConcentrationMap K(model.mechanics().stiffness_curve);
     const RowMatX3d x = fx.perturbed(62);

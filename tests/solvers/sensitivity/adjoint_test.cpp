@@ -22,20 +22,24 @@ namespace {
 struct ModelVariant {
   BendingModel bending;
   FillStiffness stiffness;
+  bool square = false;  ///< the homogenised rule on a square lattice (its anisotropic parts)
   std::string name() const {
     return std::string(bending == BendingModel::Hinge ? "hinge" : "shape operator") +
-           (stiffness == FillStiffness::Homogenised ? ", homogenised stiffness" : "");
+           (stiffness == FillStiffness::Homogenised ? ", homogenised stiffness" : "") +
+           (square ? ", square lattice" : "");
   }
 };
 const ModelVariant kVariants[] = {{BendingModel::ShapeOperator, FillStiffness::Linear},
                                   {BendingModel::Hinge, FillStiffness::Linear},
                                   {BendingModel::ShapeOperator, FillStiffness::Homogenised},
-                                  {BendingModel::Hinge, FillStiffness::Homogenised}};
+                                  {BendingModel::Hinge, FillStiffness::Homogenised},
+                                  {BendingModel::ShapeOperator, FillStiffness::Homogenised, true},
+                                  {BendingModel::Hinge, FillStiffness::Homogenised, true}};
 
 TEST(FillRatioPartials, MatchCentralDifferencesAtFixedPositions) {
  for (const ModelVariant& variant : kVariants) {
   SCOPED_TRACE(variant.name());
-  test::CapFixture fx(31, variant.bending, variant.stiffness);
+  test::CapFixture fx(31, variant.bending, variant.stiffness, variant.square);
   const ShellModel& model = *fx.model;
   const RowMatX3d x = fx.perturbed(32);
   const Eigen::VectorXd& a0 = fx.alpha;
@@ -101,7 +105,7 @@ TEST(AdjointSensitivity, MatchesCentralDifferencesOfTheEquilibrium) {
   tbb::task_arena(1).execute([] {
  for (const ModelVariant& variant : kVariants) {
   SCOPED_TRACE(variant.name());
-  test::CapFixture fx(39, variant.bending, variant.stiffness);
+  test::CapFixture fx(39, variant.bending, variant.stiffness, variant.square);
   const ShellModel& model = *fx.model;
   NewtonSettings settings;
   settings.residual_tolerance = 1e-12;

@@ -1,5 +1,6 @@
 // Per-element energies against central differences at random deformed states with random fill
 // ratios: gradient vs energy, Hessian vs gradient, fill-ratio partials vs energy and gradient.
+#include <numbers>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -79,6 +80,53 @@ TEST(MembraneEnergy, GradientAndHessianMatchCentralDifferences) {
     const Eigen::MatrixXd dg_dalpha = membrane_gradient(x, rest, kMu, kLambda, 1.0);
     const auto cga = check_jacobian(gradient_of_alpha, a, dg_dalpha, alpha);
     EXPECT_LE(cga.best, kTolerance) << cga.table();
+  }
+}
+
+// The membrane with a general constitutive matrix (the square lattice's anisotropic part): with
+// the Lamé form's matrix it is that form (energy, gradient, Hessian to round-off); with an
+// indefinite anisotropic matrix plus a random symmetric one its gradient and Hessian are its
+// energy's derivatives.
+TEST(MembraneEnergy, GeneralConstitutiveMatrixIsTheLameFormAndItsDerivativesAreExact) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> angle(0, 2 * std::numbers::pi);
+  for (int trial = 0; trial < 25; ++trial) {
+    const RandomTriangle t = random_triangle(rng);
+    const MembraneRest rest = membrane_rest(t.rest.segment<3>(0), t.rest.segment<3>(3), t.rest.segment<3>(6));
+    const double alpha = random_alpha(rng);
+    const Vec9 x = t.deformed;
+    double e_lame = 0, e_general = 0;
+    Vec9 g_lame, g_general;
+    Mat9 h_lame, h_general;
+    membrane_energy_gradient_hessian(x, rest, kMu, kLambda, alpha, &e_lame, &g_lame, &h_lame);
+    membrane_energy_gradient_hessian(x, rest, membrane_constitutive(kMu, kLambda), alpha, &e_general, &g_general,
+                                     &h_general);
+    EXPECT_NEAR(e_general, e_lame, 1e-12 * std::abs(e_lame));
+    EXPECT_LE((g_general - g_lame).norm(), 1e-12 * g_lame.norm());
+    EXPECT_LE((h_general - h_lame).norm(), 1e-12 * h_lame.norm());
+
+    const double phi = angle(rng), c = std::cos(4 * phi), sn = std::sin(4 * phi);
+    Eigen::Matrix3d C;
+    C << c, -c, sn, -c, c, -sn, sn, -sn, -c;
+    const Eigen::Matrix3d R = Eigen::Matrix3d::Random();
+    C = kMu * C + 100.0 * (R + R.transpose());
+    auto energy = [&](const Eigen::VectorXd& y) {
+      double e = 0;
+      membrane_energy_gradient_hessian(y, rest, C, alpha, &e, nullptr, nullptr);
+      return e;
+    };
+    auto gradient = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
+      Vec9 g;
+      membrane_energy_gradient_hessian(y, rest, C, alpha, nullptr, &g, nullptr);
+      return g;
+    };
+    Mat9 h;
+    membrane_energy_gradient_hessian(x, rest, C, alpha, nullptr, nullptr, &h);
+    const auto cg = check_gradient(energy, x, gradient(x), 1.0);
+    EXPECT_LE(cg.best, kTolerance) << "general membrane gradient, trial " << trial << "\n" << cg.table();
+    const auto ch = check_jacobian(gradient, x, h, 1.0);
+    EXPECT_LE(ch.best, kTolerance) << "general membrane Hessian, trial " << trial << "\n" << ch.table();
+    EXPECT_LE((h - h.transpose()).norm(), 1e-12 * h.norm());
   }
 }
 

@@ -7,6 +7,8 @@
 // density and peak tests, whose homogenised fixtures carry the split (test_stiffness_curve).
 #include <cmath>
 #include <functional>
+#include <numbers>
+#include <string>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -83,11 +85,13 @@ TEST(IsotropicSplit, EqualBulkAndShearRatiosReproduceTheScalarRule) {
 
 // The assembly and the energy-only sum evaluate a split element's two parts in one pass
 // (visit_split_element); the α-partials evaluate them one by one. Both must agree, with the parts'
-// ratios unequal (the test curve's).
+// ratios unequal (the test curve's), and with the square lattice's anisotropic parts.
 TEST(IsotropicSplit, FusedEvaluationMatchesThePartsOneByOne) {
+  for (bool square : {false, true})
   for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
     SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
-    test::CapFixture fx(74, bending, FillStiffness::Homogenised);
+    SCOPED_TRACE(square ? "square lattice (three parts)" : "hexagonal lattice");
+    test::CapFixture fx(74, bending, FillStiffness::Homogenised, square);
     const ShellModel& model = *fx.model;
     ASSERT_TRUE(model.fill_stiffness().split());
     const RowMatX3d x = fx.perturbed(75);
@@ -124,6 +128,15 @@ struct FlatPlate {
     MechanicsSettings mech;
     mech.stiffness = rule;
     if (rule == FillStiffness::Homogenised) mech.stiffness_curve = test::test_stiffness_curve();
+    return ShellModel(mesh, test::pa12(), lc, mech);
+  }
+  /// The homogenised rule on a square lattice whose axis is `axis` (in the plate's plane or not).
+  ShellModel square(const Vec3& axis) const {
+    MechanicsSettings mech;
+    mech.stiffness = FillStiffness::Homogenised;
+    mech.stiffness_curve = test::test_square_stiffness_curve();
+    mech.lattice = PerforationLattice::Square;
+    mech.lattice_axis = axis;
     return ShellModel(mesh, test::pa12(), lc, mech);
   }
 };
@@ -193,6 +206,91 @@ TEST(IsotropicSplit, UniformEquibiaxialAndDeviatoricStatesScaleByTheirOwnModulus
   // The two parts differ where the test curve says so (bending bulk 0.50 against shear 0.91 at
   // α = 0.6): a scalar rule could not pass both curvature states.
   EXPECT_LT(g.factor(true, FillPart::Bulk, 0.6), 0.6 * g.factor(true, FillPart::Shear, 0.6));
+}
+
+// The square lattice's anisotropic part (fill_stiffness_map.h). On a flat plate whose lattice axis
+// lies at 30° to x — and so at other angles to each face's own frame (its first edge) — a uniform
+// deviator along the lattice's axes stores g_G (1 + q) times the solid's energy and one at 45° to
+// them g_G (1 − q), in stretch and in bending; equibiaxial states g_K, as on the hexagonal lattice.
+// A wrong sign of 4φ, a frame mix-up or a missing part fails one of the eight.
+TEST(SquareLattice, UniformDeviatorsAlongAndAcrossItsAxesStoreTheirOwnModuli) {
+  const FlatPlate p;
+  const double theta = std::numbers::pi / 6;
+  const ShellModel square = p.square(Vec3(std::cos(theta), std::sin(theta), 0)), linear = p.model(FillStiffness::Linear);
+  const FillStiffnessMap& g = square.fill_stiffness();
+  ASSERT_TRUE(g.anisotropic());
+  EXPECT_EQ(square.num_elements(), linear.num_elements() + 2 * 2 * p.mesh.num_faces());
+  const RowMatX3d& X = p.mesh.vertices();
+  const double e = 1e-3, kappa = 0.05;
+  struct State {
+    std::string name;
+    ElementKind kind;
+    double sign;  ///< +1 along the axes (G₁), −1 at 45° (G₂), 0 equibiaxial (K)
+    double tolerance;
+    std::function<Vec3(const Vec3&)> displacement;
+  };
+  std::vector<State> states;
+  for (const double sign : {1.0, -1.0}) {
+    const double a = theta + (sign > 0 ? 0.0 : std::numbers::pi / 4);
+    const Eigen::Vector2d n(std::cos(a), std::sin(a)), m(-std::sin(a), std::cos(a));
+    const std::string where = sign > 0 ? " along the axes" : " at 45°";
+    // u = e (n nᵀ − m mᵀ) q: E = ε + ½ e² I, the quadratic part an isotropic e⁴ term.
+    states.push_back({"deviatoric stretch" + where, ElementKind::Membrane, sign, 1e-5, [=](const Vec3& q) {
+                        const Eigen::Vector2d u = e * (n * n.dot(q.head<2>()) - m * m.dot(q.head<2>()));
+                        return Vec3(u.x(), u.y(), 0);
+                      }});
+    states.push_back({"saddle curvature" + where, ElementKind::Bend, sign, 1e-9, [=](const Vec3& q) {
+                        const double s = n.dot(q.head<2>()), t = m.dot(q.head<2>());
+                        return Vec3(0, 0, 0.5 * kappa * (s * s - t * t));
+                      }});
+  }
+  states.push_back({"equibiaxial stretch", ElementKind::Membrane, 0, 1e-12,
+                    [&](const Vec3& q) { return Vec3(e * q.x(), e * q.y(), 0); }});
+  states.push_back({"spherical curvature", ElementKind::Bend, 0, 1e-9,
+                    [&](const Vec3& q) { return Vec3(0, 0, 0.5 * kappa * (q.x() * q.x() + q.y() * q.y())); }});
+  for (const State& s : states) {
+    SCOPED_TRACE(s.name);
+    RowMatX3d x = X;
+    for (int v = 0; v < x.rows(); ++v) x.row(v) += s.displacement(X.row(v).transpose()).transpose();
+    const Eigen::VectorXd ratio = energy_ratio(square, linear, x, p.alpha, s.kind);
+    const bool bend = s.kind == ElementKind::Bend;
+    int checked = 0;
+    for (int t = 0; t < ratio.size(); ++t) {
+      if (std::isnan(ratio[t])) continue;  // a bend at the boundary
+      const double a = p.alpha[t];
+      const double expected = s.sign == 0 ? g.factor(bend, FillPart::Bulk, a)
+                                          : g.factor(bend, FillPart::Shear, a) * (1 + s.sign * g.anisotropy(bend, a));
+      EXPECT_NEAR(ratio[t], expected, s.tolerance * expected) << "face " << t << " α " << a;
+      ++checked;
+    }
+    EXPECT_GT(checked, p.mesh.num_faces() / 2);
+  }
+  // The test curve's membrane q is 0.33 at α = 0.6: the axes' and the diagonal's moduli differ by 2×.
+  EXPECT_GT(g.anisotropy(false, 0.6), 0.3);
+}
+
+// The lattice's axis is projected onto each face: an axis normal to a flat plate gives no direction
+// and the isotropic parts alone (the anisotropic parts store nothing); one tilted out of the plane
+// is its projection's.
+TEST(SquareLattice, TheAxisIsProjectedOntoEachFace) {
+  const FlatPlate p;
+  const ShellModel normal = p.square(Vec3::UnitZ()), tilted = p.square(Vec3(1, 1, 3)),
+                   flat = p.square(Vec3(1, 1, 0));
+  for (const Eigen::Vector2d& o : normal.lattice_orientation()) EXPECT_EQ(o.norm(), 0.0);
+  // An axis and the one at 90° to it in the plane are the same square lattice.
+  const ShellModel along_x = p.square(Vec3::UnitX()), along_y = p.square(Vec3::UnitY());
+  for (int f = 0; f < p.mesh.num_faces(); ++f)
+    EXPECT_NEAR((along_x.lattice_orientation()[size_t(f)] - along_y.lattice_orientation()[size_t(f)]).norm(), 0.0, 1e-12);
+  for (int f = 0; f < p.mesh.num_faces(); ++f) {
+    EXPECT_NEAR((tilted.lattice_orientation()[size_t(f)] - flat.lattice_orientation()[size_t(f)]).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(flat.lattice_orientation()[size_t(f)].norm(), 1.0, 1e-12);
+  }
+  RowMatX3d x = p.mesh.vertices();
+  for (int v = 0; v < x.rows(); ++v) x(v, 0) += 1e-3 * x(v, 0);
+  ElementEnergies unit;
+  shell_energy(normal, x, p.alpha, &unit);
+  for (int e = 0; e < normal.num_elements(); ++e)
+    if (normal.element(e).part == FillPart::Anisotropy) EXPECT_EQ(unit[e], 0.0);
 }
 
 }  // namespace

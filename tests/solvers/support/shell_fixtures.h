@@ -43,14 +43,25 @@ inline FillStiffnessCurve test_stiffness_curve() {
   return c;
 }
 
+/// The same on the square lattice (anisotropy q near a calibration's: large and positive in the
+/// membrane, small and negative in bending), as calibrations return it for mechanics.lattice square.
+inline FillStiffnessCurve test_square_stiffness_curve() {
+  FillStiffnessCurve c = test_stiffness_curve();
+  c.membrane_anisotropy = {0.58, 0.47, 0.33, 0.21, 0.08, 0.0};
+  c.bending_anisotropy = {-0.09, -0.06, -0.04, -0.02, -0.01, 0.0};
+  return c;
+}
+
 struct CapFixture {
   SurfaceMesh mesh = test::cap(0.5, 0.4, 8, 0.05);
   LoadCase lc;
   std::unique_ptr<ShellModel> model;
   Eigen::VectorXd alpha;
 
+  /// `square`: the homogenised rule on a square lattice whose axis (1, 0.4, 0.2) crosses the
+  /// curved cap's faces at varying angles (test_square_stiffness_curve).
   explicit CapFixture(unsigned seed, BendingModel bending = BendingModel::ShapeOperator,
-                      FillStiffness stiffness = FillStiffness::Linear) {
+                      FillStiffness stiffness = FillStiffness::Linear, bool square = false) {
     const int nv = mesh.num_vertices();
     lc.fixed.assign(nv, false);
     lc.clamped.assign(nv, false);
@@ -65,6 +76,11 @@ struct CapFixture {
     mech.bending = bending;
     mech.stiffness = stiffness;
     if (stiffness == FillStiffness::Homogenised) mech.stiffness_curve = test_stiffness_curve();
+    if (stiffness == FillStiffness::Homogenised && square) {
+      mech.stiffness_curve = test_square_stiffness_curve();
+      mech.lattice = PerforationLattice::Square;
+      mech.lattice_axis = Vec3(1, 0.4, 0.2).normalized();
+    }
     model = std::make_unique<ShellModel>(mesh, pa12(), lc, mech);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> a(0.2, 1.0);
