@@ -3,9 +3,10 @@
 /// element e at unit fill ratio and s_e its fill factor (g_m(α_f) for membranes, g_b(α_f) for
 /// shape-operator bends and clamp hinges, √(g_b(α_i) g_b(α_j)) for hinges (10); g(α) = α under the
 /// paper's linear rule; under the isotropic split the bulk and shear parts of membranes and bends
-/// are elements of their own with their own g, see fill_stiffness_map.h), with its gradient and Hessian over the free DOFs,
-/// assembled in parallel (TBB) into the fixed pattern of ShellModel::assembly(). Results do not
-/// depend on the number of threads.
+/// — and on a square lattice their anisotropic parts, whose U_e can be negative — are elements of
+/// their own with their own g, see fill_stiffness_map.h), with its gradient and Hessian over the
+/// free DOFs, assembled in parallel (TBB) into the fixed pattern of ShellModel::assembly(). Results
+/// do not depend on the number of threads.
 ///
 /// Every consumer of elements (assembly, energy density, fill-ratio partials) goes through one
 /// dispatch, visit_element(), and one fill-factor rule, element_fill_factor() /
@@ -44,8 +45,8 @@ void visit_element(const ShellModel& model, const RowMatX3d& x, int e, double sc
 
 /// Under the isotropic split: the membrane or bend whose bulk part is element e, whole, with each
 /// part (bulk, shear and, on a square lattice, anisotropic) scaled by its fill factor at `alpha` —
-/// one evaluation of all parts (the energy is linear in
-/// the constitutive constants), which the assembly uses in place of the two elements.
+/// one evaluation of all parts (the energy is linear in the constitutive constants), which the
+/// assembly uses in place of the part elements.
 template <typename Visit>
 void visit_split_element(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha, int e,
                          ElementNeed need, Visit&& visit);
@@ -105,8 +106,8 @@ void visit_membrane(const ShellModel& model, const RowMatX3d& x, int index, cons
 
 /// Membrane `index` with a general Voigt constitutive matrix C (N/m) in its rest frame.
 template <typename Visit>
-void visit_membrane_general(const ShellModel& model, const RowMatX3d& x, int index, const Eigen::Matrix3d& C, double scale,
-                    ElementNeed need, Visit&& visit) {
+void visit_membrane_general(const ShellModel& model, const RowMatX3d& x, int index, const Eigen::Matrix3d& C,
+                            double scale, ElementNeed need, Visit&& visit) {
   ElementLocal<3> l;
   for (int a = 0; a < 3; ++a) l.vertex[a] = model.mesh().faces()(index, a);
   membrane_energy_gradient_hessian(membrane_positions(model, x, index), model.membranes()[index], C, scale, &l.energy,
