@@ -168,13 +168,19 @@ void run_simulate(const SimulateOptions& opts) {
   std::optional<solvers::DiscretisationEstimate> estimate;
   if (!opts.no_discretisation_estimate) {
     sw.restart();
-    estimate = solvers::estimate_discretisation(
-        scene, solvers::refine_simulation_mesh(scene, meshes),
-        [&](const SurfaceMesh& m) {
-          if (!surface.context()) return Eigen::VectorXd(Eigen::VectorXd::Ones(m.num_faces()));
-          return solvers::design_fill_ratios(scene, *surface.context(), m, stencils, fill_options);
-        },
-        model.mechanics(), summary, solvers::simulation_edge_length(scene, meshes), meshes.sim);
+    // The material the simulation mesh's faces carry (α after the cell filter) held on every
+    // level, the holes re-cut where the mesh resolves them: the mesh's error, not the fill rule's.
+    solvers::SimulationMeshRefinements refined(scene, meshes);
+    solvers::FillRatiosOnMesh held = solvers::coarse_fill_ratios_on(meshes.sim, alpha);
+    if (surface.context() && !shell.cell_filter().identity())
+      held = solvers::coarse_fill_ratios_on(meshes.sim, alpha, shell.cell_filter().resolution(),
+                                            [&](const SurfaceMesh& m) {
+                                              return solvers::fill_ratios_on_mesh(
+                                                  surface.bvh(), surface.shapes(), surface.field(), m,
+                                                  stencils, fill_options);
+                                            });
+    estimate = solvers::estimate_discretisation(scene, refined, held, model.mechanics(), summary,
+                                                solvers::simulation_edge_length(scene, meshes), meshes.sim);
     timings.add("discretisation", sw.seconds());
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
   }

@@ -199,6 +199,10 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   mechanics.filter = filter == "cell" ? FillFilter::Cell : FillFilter::None;
   const std::string lattice = m.string("lattice", "hexagonal", {"hexagonal", "square"});
   mechanics.lattice = lattice == "square" ? PerforationLattice::Square : PerforationLattice::Hexagonal;
+  // A hexagonal lattice's stiffness is isotropic in its plane, so an axis given with it would be
+  // read and do nothing: the scene says something the model cannot honour.
+  if (mechanics.lattice == PerforationLattice::Hexagonal && m.has("lattice_axis"))
+    m.fail("lattice_axis", "is only read with \"lattice\": \"square\" (a hexagonal lattice is isotropic in its plane)");
   const Vec3 axis = m.vec3("lattice_axis", Vec3::UnitX());
   if (!(axis.norm() > 1e-12)) m.fail("lattice_axis", "must be a non-zero direction");
   mechanics.lattice_axis = axis.normalized();

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+
+#include <tbb/parallel_for.h>
 
 #include <fmt/format.h>
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
 #include "host/core/work_limits.h"
+#include "host/mesh/bvh.h"
 #include "host/surfaces/generators.h"
 
 namespace cutwork::solvers {
@@ -18,6 +22,13 @@ nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 double relative_change(double coarse, double fine) {
   return fine != 0 ? std::abs(coarse - fine) / std::abs(fine) : (coarse == 0 ? 0.0 : INFINITY);
 }
+
+/// The estimate of C_h = values[0] from levels that have not settled: (|C_h − C_finest| + the larger
+/// of the finest three's differences) / |C_finest|.
+double unsettled_error(const std::vector<double>& values) {
+  const double c_h = values.front(), c_finest = values.back();
+  return (std::abs(c_h - c_finest) + richardson_extrapolate(values).error_bar) / std::abs(c_finest);
+}
 }  // namespace
 
 double simulation_edge_length(const Scene& scene, const SceneMeshes& meshes) {
@@ -25,43 +36,95 @@ double simulation_edge_length(const Scene& scene, const SceneMeshes& meshes) {
   return scene.mesh.sim_edge_length > 0 ? scene.mesh.sim_edge_length : scene.mesh.edge_length;
 }
 
-std::vector<RefinedSimulationMesh> refine_simulation_mesh(const Scene& scene, const SceneMeshes& meshes,
-                                                          const DiscretisationOptions& options) {
-  std::vector<RefinedSimulationMesh> out;
-  double h = simulation_edge_length(scene, meshes);
-  double faces = meshes.sim.num_faces();
-  for (int k = 0; k < options.refinements; ++k) {
-    h *= 0.5;
-    faces *= 4;
-    if (k > 0 && faces > options.max_faces) break;  // (h/2 always: the estimate needs one refinement)
+SimulationMeshRefinements::SimulationMeshRefinements(const Scene& scene, const SceneMeshes& meshes,
+                                                     const DiscretisationOptions& options)
+    : m_scene(&scene), m_meshes(&meshes), m_options(options) {}
+
+const RefinedSimulationMesh* SimulationMeshRefinements::level(int k) {
+  const int most = m_options.refinements + std::max(0, m_options.extra_refinements);
+  while (int(m_levels.size()) <= k && !m_exhausted && int(m_levels.size()) < most) {
+    const int j = int(m_levels.size());
+    const double faces = 4.0 * (m_levels.empty() ? m_meshes->sim.num_faces() : m_levels.back().mesh.num_faces());
+    if (j > 0 && faces > m_options.max_faces) {  // (h/2 always: the estimate needs one refinement)
+      m_exhausted = true;
+      break;
+    }
     RefinedSimulationMesh r;
-    if (scene.mesh.generator.empty()) {
-      r.mesh = midpoint_subdivision(out.empty() ? meshes.sim : out.back().mesh);
+    if (m_scene->mesh.generator.empty()) {
+      r.mesh = midpoint_subdivision(m_levels.empty() ? m_meshes->sim : m_levels.back().mesh);
       r.method = "subdivided";
       r.edge_length = r.mesh.mean_edge_length();
     } else {
-      r.edge_length = h;
+      r.edge_length = simulation_edge_length(*m_scene, *m_meshes) / double(2 << j);
       try {
-        r.mesh = generate_shape(scene.mesh.generator, scene.mesh.params, h, work_limits().max_faces,
-                                fmt::format("sim_edge_length / {} (the discretisation estimate)", 2 << k));
+        r.mesh = generate_shape(m_scene->mesh.generator, m_scene->mesh.params, r.edge_length, work_limits().max_faces,
+                                fmt::format("sim_edge_length / {} (the discretisation estimate)", 2 << j));
       } catch (const InputError& e) {
-        throw InputError(scene_origin(scene) + ": /mesh: " + e.what());
+        throw InputError(scene_origin(*m_scene) + ": /mesh: " + e.what());
       }
       r.method = "regenerated";
     }
-    faces = r.mesh.num_faces();
-    out.push_back(std::move(r));
+    m_levels.push_back(std::move(r));
   }
+  return k < int(m_levels.size()) ? &m_levels[size_t(k)] : nullptr;
+}
+
+std::vector<RefinedSimulationMesh> refine_simulation_mesh(const Scene& scene, const SceneMeshes& meshes,
+                                                          const DiscretisationOptions& options) {
+  SimulationMeshRefinements refinements(scene, meshes, options);
+  std::vector<RefinedSimulationMesh> out;
+  for (int k = 0; k < options.refinements; ++k)
+    if (const RefinedSimulationMesh* r = refinements.level(k)) out.push_back(*r);
   return out;
 }
 
-DiscretisationEstimate estimate_discretisation(const Scene& scene, const std::vector<RefinedSimulationMesh>& refined,
+FillRatiosOnMesh coarse_fill_ratios_on(const SurfaceMesh& coarse, Eigen::VectorXd alpha, Eigen::VectorXd resolution,
+                                       FillRatiosOnMesh own_on) {
+  const int nf = coarse.num_faces();
+  if (alpha.size() != nf || (own_on && resolution.size() != nf))
+    throw InternalError(fmt::format("coarse_fill_ratios_on: {} fill ratios and {} resolutions for {} faces",
+                                    alpha.size(), resolution.size(), nf));
+  // Each field's value at each vertex: the area-weighted mean of its faces'.
+  const auto at_vertices = [&coarse](const Eigen::VectorXd& per_face) {
+    Eigen::VectorXd num = Eigen::VectorXd::Zero(coarse.num_vertices()), den = num;
+    for (int f = 0; f < coarse.num_faces(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        num[coarse.faces()(f, k)] += coarse.face_areas()[f] * per_face[f];
+        den[coarse.faces()(f, k)] += coarse.face_areas()[f];
+      }
+    return Eigen::VectorXd(num.cwiseQuotient(den.cwiseMax(1e-300)));
+  };
+  Eigen::VectorXd alpha_v = at_vertices(alpha);
+  Eigen::VectorXd resolution_v = own_on ? at_vertices(resolution) : Eigen::VectorXd();
+  auto bvh = std::make_shared<const FaceBvh>(coarse);
+  return [&coarse, bvh, alpha = std::move(alpha), alpha_v = std::move(alpha_v), resolution_v = std::move(resolution_v),
+          own_on = std::move(own_on)](const SurfaceMesh& fine) {
+    if (&fine == &coarse) return alpha;
+    const Eigen::VectorXd own = own_on ? own_on(fine) : Eigen::VectorXd();
+    Eigen::VectorXd out(fine.num_faces());
+    tbb::parallel_for(0, fine.num_faces(), [&](int f) {
+      const auto& F = fine.faces();
+      const auto& X = fine.vertices();
+      const Vec3 centroid = (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3.0;
+      const SurfacePoint p = bvh->closest_point(centroid).where;
+      double held = 0, r = 0;
+      for (int k = 0; k < 3; ++k) {
+        const int v = coarse.faces()(p.face, k);
+        held += p.bary[k] * alpha_v[v];
+        if (own_on) r += p.bary[k] * resolution_v[v];
+      }
+      out[f] = own_on ? (1 - r) * held + r * own[f] : held;
+    });
+    return out;
+  };
+}
+
+DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMeshRefinements& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
-                                               const SurfaceMesh& coarse_mesh, const DiscretisationOptions& options) {
-  if (refined.empty()) throw InternalError("estimate_discretisation: no refined mesh");
+                                               const SurfaceMesh& coarse_mesh) {
+  const DiscretisationOptions& options = refined.options();
   DiscretisationEstimate e;
-  e.method = refined.front().method;
   e.tolerance = options.tolerance;
   e.support_tolerance = options.support_tolerance;
   {
@@ -70,25 +133,35 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, const std::ve
                         support_extent(coarse_mesh, lc.clamped)});
   }
   e.support_change = 0;
-  for (const RefinedSimulationMesh& r : refined) {
-    const Eigen::VectorXd alpha = fill_on(r.mesh);
-    const LoadCase lc = resolve_load_case(scene, r.mesh);
-    const ShellModel model(r.mesh, scene.material, lc, mechanics);
+  std::vector<double> compliances{coarse.compliance};
+  for (int k = 0;; ++k) {
+    // Past the levels always solved, one more only while the finest three have not settled and
+    // the cautious estimate of unsettled levels cannot tell converged by itself.
+    if (k >= options.refinements &&
+        (compliances.size() < 3 || richardson_extrapolate(compliances).asymptotic ||
+         unsettled_error(compliances) <= options.tolerance))
+      break;
+    const RefinedSimulationMesh* r = refined.level(k);
+    if (r == nullptr) break;
+    if (k == 0) e.method = r->method;
+    const Eigen::VectorXd alpha = fill_on(r->mesh);
+    const LoadCase lc = resolve_load_case(scene, r->mesh);
+    const ShellModel model(r->mesh, scene.material, lc, mechanics);
     EquilibriumSolver solver(model, options.newton);
     solver.solve(alpha);
-    e.levels.push_back({r.edge_length, r.mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha),
-                        support_extent(r.mesh, lc.fixed), support_extent(r.mesh, lc.clamped)});
+    e.levels.push_back({r->edge_length, r->mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha),
+                        support_extent(r->mesh, lc.fixed), support_extent(r->mesh, lc.clamped)});
+    compliances.push_back(e.levels.back().quantities.compliance);
     e.support_change = std::max({e.support_change, support_extent_change(e.levels.front().fixed, e.levels.back().fixed, coarse_edge_length),
                                  support_extent_change(e.levels.front().clamped, e.levels.back().clamped, coarse_edge_length)});
   }
+  if (e.levels.size() < 2) throw InternalError("estimate_discretisation: no refined mesh");
   e.supports_consistent = e.support_change <= e.support_tolerance;
-  std::vector<double> compliances;
-  for (const DiscretisationLevel& l : e.levels) compliances.push_back(l.quantities.compliance);
   e.compliance = richardson_extrapolate(compliances);
-  const double c_h = coarse.compliance, c_finest = compliances.back();
+  const double c_h = coarse.compliance;
   if (e.levels.size() >= 3 && !e.compliance.asymptotic) {
     e.rule = "not asymptotic";
-    e.estimated_error = (std::abs(c_h - c_finest) + e.compliance.error_bar) / std::abs(c_finest);
+    e.estimated_error = unsettled_error(compliances);
   } else {
     e.rule = e.levels.size() >= 3 ? "richardson" : "first order assumed";
     e.estimated_error = relative_change(c_h, e.compliance.extrapolated);

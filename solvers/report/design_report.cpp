@@ -179,16 +179,21 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   if (info.discretisation_estimate) {
     sw.restart();
     const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
-    const std::vector<RefinedSimulationMesh> refined = refine_simulation_mesh(scene, meshes);
+    SimulationMeshRefinements refined(scene, meshes);
     const double h = simulation_edge_length(scene, meshes);
     const DiscretisationEstimate uncut = estimate_discretisation(
-        scene, refined, [](const SurfaceMesh& m) { return Eigen::VectorXd(Eigen::VectorXd::Ones(m.num_faces())); },
-        mechanics, result.uncut.summary, h, meshes.sim);
+        scene, refined, coarse_fill_ratios_on(meshes.sim, result.uncut.alpha), mechanics, result.uncut.summary, h,
+        meshes.sim);
+    // The final design's material held on every level (the holes re-cut where the simulation
+    // mesh resolves them): the mesh's error, not the fill rule's.
+    const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
+    const FillRatiosOnMesh own_on = [&](const SurfaceMesh& m) {
+      return fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), m, final_params);
+    };
     const DiscretisationEstimate final_design = estimate_discretisation(
         scene, refined,
-        [&](const SurfaceMesh& m) {
-          return design_fill_ratios(scene, ctx, m, final_params);
-        },
+        coarse_fill_ratios_on(meshes.sim, result.final_design.alpha, filter.resolution(),
+                              filter.identity() ? FillRatiosOnMesh() : own_on),
         mechanics, result.final_design.summary, h, meshes.sim);
     discretisation = {{"uncut", discretisation_json(uncut)},
                       {"final", discretisation_json(final_design)},

@@ -38,6 +38,7 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
   const RowMatX2i& edge_faces = mesh.edge_faces();
 
   m_blend.resize(nf);
+  m_resolution.resize(nf);
   std::vector<std::vector<std::pair<int, double>>> rows(static_cast<size_t>(nf));
   // Per thread: the faces a row has marked (`seen`, unmarked through `visited` after each row).
   tbb::enumerable_thread_specific<std::vector<char>> marks(size_t(nf), char(0));
@@ -47,7 +48,9 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
     std::vector<char>& seen = marks.local();
     for (int t = range.begin(); t != range.end(); ++t) {
       const double h = std::sqrt(4 * area[t] / std::sqrt(3.0));
-      const double b = keep_own && (*keep_own)[size_t(t)] ? 0.0 : cell_filter_blend(h / diameter[t]);
+      const double blend = cell_filter_blend(h / diameter[t]);
+      m_resolution[t] = 1 - blend;
+      const double b = keep_own && (*keep_own)[size_t(t)] ? 0.0 : blend;
       m_blend[t] = b;
       auto& row = rows[size_t(t)];
       if (b == 0) {

@@ -73,6 +73,10 @@ class CellFilter {
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return m_matrix; }
   /// b_t (#F; empty for the identity): 0 where the face keeps its own α, 1 where it takes the cell's.
   const Eigen::VectorXd& blend() const { return m_blend; }
+  /// 1 − smoothstep((h_t/d_t − ¼)/¾) (#F; empty for the identity): how far the face's triangle
+  /// resolves the stencils, 1 where four or more span one, 0 where it is one across or larger —
+  /// b_t's complement before a clamp's mark (a face at a clamp keeps its own α whatever its size).
+  const Eigen::VectorXd& resolution() const { return m_resolution; }
   /// Mean number of faces per row (the filter's width), 1 for the identity.
   double mean_row_size() const;
 
@@ -80,6 +84,7 @@ class CellFilter {
   Eigen::SparseMatrix<double, Eigen::RowMajor> m_matrix;
   Eigen::SparseMatrix<double, Eigen::RowMajor> m_transpose;
   Eigen::VectorXd m_blend;
+  Eigen::VectorXd m_resolution;
 };
 
 /// b(h/d) of the file comment.

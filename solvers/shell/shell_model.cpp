@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 
 namespace cutwork::solvers {
 
@@ -243,6 +244,16 @@ Eigen::Matrix3d ShellModel::bending_part_constitutive(FillPart part, int face) c
   Eigen::Matrix3d C;
   C << c / 2, -c / 2, s, -c / 2, c / 2, -s, s, -s, -2 * c;
   return (1 - m_material.poisson_ratio) * C;
+}
+
+std::array<double, 2> ShellModel::membrane_lame(FillPart part) const {
+  switch (part) {
+    case FillPart::Whole: return {m_stiffness.mu, m_stiffness.lambda};
+    case FillPart::Bulk: return {0.0, m_stiffness.mu + m_stiffness.lambda};
+    case FillPart::Shear: return {m_stiffness.mu, -m_stiffness.mu};
+    case FillPart::Anisotropy: break;
+  }
+  throw InternalError("ShellModel::membrane_lame: the anisotropic part has no Lamé form");
 }
 
 Eigen::Matrix3d ShellModel::membrane_part_constitutive(FillPart part, int face) const {

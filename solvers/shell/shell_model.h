@@ -137,15 +137,9 @@ class ShellModel {
   /// both elements); zero where the axis is normal to the face (within 1e-3) and without anisotropy.
   const std::vector<Eigen::Vector2d>& lattice_orientation() const { return m_lattice_orientation; }
   /// The membrane's (μ, λ) (N/m) of ShellStiffness, or of its bulk part (0, μ + λ): ((μ + λ)/2) tr(E)²,
-  /// or its shear part (μ, −μ): μ |dev E|².
-  std::array<double, 2> membrane_lame(FillPart part = FillPart::Whole) const {
-    switch (part) {
-      case FillPart::Bulk: return {0.0, m_stiffness.mu + m_stiffness.lambda};
-      case FillPart::Shear: return {m_stiffness.mu, -m_stiffness.mu};
-      case FillPart::Whole: break;
-    }
-    return {m_stiffness.mu, m_stiffness.lambda};
-  }
+  /// or its shear part (μ, −μ): μ |dev E|². The anisotropic part has no Lamé form
+  /// (membrane_part_constitutive): asking for one throws InternalError.
+  std::array<double, 2> membrane_lame(FillPart part = FillPart::Whole) const;
   const LoadCase& load_case() const { return m_load_case; }
 
   int num_vertices() const { return m_mesh->num_vertices(); }

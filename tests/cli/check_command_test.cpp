@@ -115,7 +115,9 @@ TEST(CheckCommand, DesignAndSimulateReportTheirDiscretisationError) {
   ASSERT_TRUE(report.contains("discretisation")) << report.dump();
   for (const char* which : {"uncut", "final"}) {
     const auto& e = report["discretisation"][which];
-    EXPECT_EQ(e["levels"].size(), 3u) << e.dump();
+    // h, h/2, h/4, and h/8 where those have not settled and their cautious estimate exceeds 2%.
+    EXPECT_GE(e["levels"].size(), 3u) << e.dump();
+    EXPECT_LE(e["levels"].size(), 4u) << e.dump();
     EXPECT_NEAR(e["levels"][1]["edge_length"].get<double>(), 0.025, 1e-12);
     EXPECT_TRUE(e["estimated_error"].is_number()) << e.dump();
     EXPECT_TRUE(e["converged"].is_boolean());
@@ -138,6 +140,31 @@ TEST(CheckCommand, DesignAndSimulateReportTheirDiscretisationError) {
                                (dir / "off").string());
   ASSERT_EQ(off.exit_code, 0) << off.err;
   EXPECT_FALSE(test::read_json(dir / "off" / "report.json").contains("discretisation"));
+}
+
+TEST(CheckCommand, TheDefaultPlatesDesignIsConvergedOnItsOwnMaterial) {
+  // The plate's default design (270 stencils about as large as its 10 mm triangles, homogenised
+  // and cell-filtered): its material held on the refinements changes the compliance by 0.2% and
+  // 0.1% (8.392, 8.411, 8.401 mJ), converged. With the stencils' fill ratios computed again on each
+  // refined mesh the levels sat in the filter's transition to resolved holes (8.392, 8.417,
+  // 8.221 mJ) and read 4.5%, not converged, where verify measured the design within 1.5% of the cut
+  // plate. simulate --stencils of the same design holds the same material and reads the same levels.
+  const fs::path dir = test::temp_dir("discretisation_plate");
+  const auto d = run_cutwork("design plate --device cpu --no-render --quiet --out " + (dir / "d").string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const auto final_design = test::read_json(dir / "d" / "report.json")["discretisation"]["final"];
+  EXPECT_TRUE(final_design["converged"].get<bool>()) << final_design.dump();
+  EXPECT_LT(final_design["estimated_error"].get<double>(), 0.01) << final_design.dump();
+  const auto s = run_cutwork("simulate plate --device cpu --no-render --quiet --stencils " +
+                             (dir / "d" / "stencils.json").string() + " --out " + (dir / "s").string());
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const auto simulated = test::read_json(dir / "s" / "report.json")["discretisation"];
+  ASSERT_EQ(simulated["levels"].size(), final_design["levels"].size()) << simulated.dump();
+  for (size_t k = 0; k < simulated["levels"].size(); ++k)
+    EXPECT_NEAR(simulated["levels"][k]["compliance"].get<double>(), final_design["levels"][k]["compliance"].get<double>(),
+                1e-6 * final_design["levels"][k]["compliance"].get<double>())
+        << k;
+  EXPECT_EQ(simulated["converged"], final_design["converged"]);
 }
 
 }  // namespace

@@ -81,6 +81,16 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   d.erase("mechanics");  // the default rule is the homogenised one
   EXPECT_EQ(parse_scene(d, "test").structure.measure, DensityMeasure::Peak);
   EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["structure"]["measure"], "peak");
+  // A lattice axis is read only where the lattice has axes (the square one), and is a direction.
+  d = minimal_scene();
+  d["mechanics"] = {{"lattice_axis", {0, 1, 0}}};
+  expect_rejected(d, {"/mechanics/lattice_axis", "square", "isotropic"});
+  d["mechanics"] = {{"lattice", "hexagonal"}, {"lattice_axis", {0, 1, 0}}};
+  expect_rejected(d, {"/mechanics/lattice_axis", "square"});
+  d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", {0, 0, 0}}};
+  expect_rejected(d, {"/mechanics/lattice_axis", "non-zero"});
+  d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", {0, 2, 0}}};
+  EXPECT_DOUBLE_EQ(parse_scene(d, "test").mechanics.lattice_axis[1], 1.0);
   d = minimal_scene();
   d["pattern"] = {{"seed", 1.5}};
   expect_rejected(d, {"/pattern/seed", "integer"});

@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
+#include "host/core/internal_error.h"
+#include "host/mesh/bvh.h"
 #include "host/scene/scene.h"
+#include "host/surfaces/generators.h"
 #include "solvers/conforming/discretisation_estimate.h"
 #include "solvers/conforming/richardson.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
@@ -24,8 +28,122 @@ DiscretisationEstimate uncut_estimate(const Scene& scene, const DiscretisationOp
   const Eigen::VectorXd alpha = solid(meshes.sim);
   solver.solve(alpha);
   const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha);
-  return estimate_discretisation(scene, refine_simulation_mesh(scene, meshes, options), solid, mechanics, s,
-                                 simulation_edge_length(scene, meshes), meshes.sim, options);
+  SimulationMeshRefinements refined(scene, meshes, options);
+  return estimate_discretisation(scene, refined, solid, mechanics, s, simulation_edge_length(scene, meshes),
+                                 meshes.sim);
+}
+
+/// A material field of the plate, smooth over its length: what a design's fill ratios look like to
+/// the simulation mesh (holes of varying size along the cantilever), evaluated at face centroids.
+Eigen::VectorXd varying_fill(const SurfaceMesh& m) {
+  Eigen::VectorXd alpha(m.num_faces());
+  for (int f = 0; f < m.num_faces(); ++f) {
+    Vec3 c = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) c += m.vertices().row(m.faces()(f, k)).transpose() / 3.0;
+    alpha[f] = 0.65 + 0.3 * std::cos(2 * std::numbers::pi * c.x() / 0.1) * std::cos(std::numbers::pi * c.y() / 0.1);
+  }
+  return alpha;
+}
+
+/// The shell of `scene` with the fill ratios `fill` gives on its simulation mesh, held on the
+/// refinements (coarse_fill_ratios_on), and its estimate; `fine_compliance` (when not null) the
+/// same material solved on a mesh of edge length `fine_h`.
+DiscretisationEstimate held_estimate(const Scene& scene, const FillRatiosOnMesh& fill, double fine_h = 0,
+                                     double* fine_compliance = nullptr) {
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const MechanicsSettings mechanics = scene_mechanics(scene);
+  const Eigen::VectorXd alpha = fill(meshes.sim);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  const ShellModel model(meshes.sim, scene.material, lc, mechanics);
+  EquilibriumSolver solver(model);
+  solver.solve(alpha);
+  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha);
+  SimulationMeshRefinements refined(scene, meshes);
+  const FillRatiosOnMesh held = coarse_fill_ratios_on(meshes.sim, alpha);
+  if (fine_compliance != nullptr) {
+    const SurfaceMesh fine = generate_shape(scene.mesh.generator, scene.mesh.params, fine_h);
+    const Eigen::VectorXd fine_alpha = held(fine);
+    const LoadCase flc = resolve_load_case(scene, fine);
+    const ShellModel fine_model(fine, scene.material, flc, mechanics);
+    EquilibriumSolver fine_solver(fine_model);
+    fine_solver.solve(fine_alpha);
+    *fine_compliance = summarize_equilibrium(fine_model, fine_solver.positions(), fine_alpha).compliance;
+  }
+  return estimate_discretisation(scene, refined, held, mechanics, s, simulation_edge_length(scene, meshes),
+                                 meshes.sim);
+}
+
+TEST(DiscretisationEstimate, TheCoarseMaterialIsHeldAsAContinuousField) {
+  // A refined face takes the coarse faces' fill ratios as a continuous field: each coarse vertex
+  // the area-weighted mean of its faces', interpolated at the (brute-force) closest point of the
+  // face's centroid; the simulation mesh keeps its own; the material left stays within a percent
+  // for a field that changes face by face; where the coarse triangles resolve the stencils the
+  // refined faces take the stencils' own fill ratios instead, blended by the resolution.
+  const Scene scene = load_scene("plate");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const SurfaceMesh& sim = meshes.sim;
+  Eigen::VectorXd alpha(sim.num_faces());
+  for (int f = 0; f < alpha.size(); ++f) alpha[f] = 0.5 + 0.45 * std::sin(37.0 * f);  // face by face, unsmooth
+  Eigen::VectorXd num = Eigen::VectorXd::Zero(sim.num_vertices()), den = num;
+  for (int f = 0; f < sim.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) num[sim.faces()(f, k)] += sim.face_areas()[f] * alpha[f], den[sim.faces()(f, k)] += sim.face_areas()[f];
+  const FillRatiosOnMesh held = coarse_fill_ratios_on(sim, alpha);
+  EXPECT_EQ(held(sim), alpha);
+  const std::vector<RefinedSimulationMesh> refined = refine_simulation_mesh(scene, meshes);
+  ASSERT_EQ(refined.size(), 2u);
+  const double coarse_material = alpha.dot(sim.face_areas()) / sim.face_areas().sum();
+  for (const RefinedSimulationMesh& r : refined) {
+    const Eigen::VectorXd fine = held(r.mesh);
+    ASSERT_EQ(fine.size(), r.mesh.num_faces());
+    for (int f = 0; f < r.mesh.num_faces(); ++f) {
+      Vec3 c = Vec3::Zero();
+      for (int k = 0; k < 3; ++k) c += r.mesh.vertices().row(r.mesh.faces()(f, k)).transpose() / 3.0;
+      // The field is continuous, so a centroid on a coarse edge reads the same from either face.
+      const ClosestPoint p = closest_point_brute_force(sim, c);
+      double expected = 0;
+      for (int k = 0; k < 3; ++k) expected += p.where.bary[k] * num[sim.faces()(p.where.face, k)] / den[sim.faces()(p.where.face, k)];
+      ASSERT_NEAR(fine[f], expected, 1e-12) << "face " << f;
+    }
+    const double material = fine.dot(r.mesh.face_areas()) / r.mesh.face_areas().sum();
+    EXPECT_NEAR(material, coarse_material, 0.01 * coarse_material) << r.edge_length;
+  }
+  // The stencils' own fill ratios where the coarse triangles resolve them.
+  const FillRatiosOnMesh own = [](const SurfaceMesh& m) { return Eigen::VectorXd(Eigen::VectorXd::Constant(m.num_faces(), 0.3)); };
+  const SurfaceMesh& half = refined[0].mesh;
+  const Eigen::VectorXd h0 = held(half);
+  const Eigen::VectorXd resolved = coarse_fill_ratios_on(sim, alpha, Eigen::VectorXd::Ones(alpha.size()), own)(half);
+  const Eigen::VectorXd unresolved = coarse_fill_ratios_on(sim, alpha, Eigen::VectorXd::Zero(alpha.size()), own)(half);
+  const Eigen::VectorXd between = coarse_fill_ratios_on(sim, alpha, Eigen::VectorXd::Constant(alpha.size(), 0.25), own)(half);
+  EXPECT_LT((resolved.array() - 0.3).abs().maxCoeff(), 1e-15);
+  EXPECT_LT((unresolved - h0).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((between - (0.75 * h0.array() + 0.25 * 0.3).matrix()).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_THROW(coarse_fill_ratios_on(sim, Eigen::VectorXd::Ones(3)), InternalError);
+  EXPECT_THROW(coarse_fill_ratios_on(sim, alpha, Eigen::VectorXd::Ones(3), own), InternalError);
+}
+
+TEST(DiscretisationEstimate, AMaterialHeldFixedIsJudgedByItsMesh) {
+  // The plate cantilever with fill ratios varying along it (0.35–0.95), held on the refinements:
+  // at the default 0.01 m the levels are one structure meshed again, and the estimate brackets the
+  // distance to a run eight times finer and says converged (measured: 13.84, 13.78, 13.79 mJ, not
+  // asymptotic, 0.9%; 13.79 mJ at 1.25 mm, 0.36% from the first). The plate clamped all round
+  // under pressure (bending both ways, the suite's clamped plate) on a mesh four triangles across
+  // it is not converged, which the estimate says and the run eight times finer confirms (12.33,
+  // 9.867, 9.099 µJ, order 1.68, 40.9%; 8.866 µJ at 3.125 mm, 39% from the first).
+  const Scene scene = load_scene("plate");
+  double fine = 0;
+  const DiscretisationEstimate e = held_estimate(scene, varying_fill, 0.00125, &fine);
+  ASSERT_GE(e.levels.size(), 3u);
+  EXPECT_TRUE(e.converged) << discretisation_line(e);
+  const double c_h = e.levels[0].quantities.compliance;
+  EXPECT_LE(std::abs(c_h - fine), e.estimated_error * fine) << discretisation_line(e) << "; fine " << fine;
+  nlohmann::json doc = builtin_scene_json("plate");
+  doc["mesh"]["sim_edge_length"] = 0.025;
+  doc["supports"] = nlohmann::json::array({{{"type", "clamped"}, {"select", {{"entity", "boundary_vertices"}}}}});
+  doc["loads"] = nlohmann::json::array({{{"type", "pressure"}, {"pressure", 100.0}, {"select", {{"entity", "faces"}}}}});
+  const DiscretisationEstimate coarse = held_estimate(parse_scene(doc, "clamped plate"), varying_fill, 0.003125, &fine);
+  EXPECT_FALSE(coarse.converged) << discretisation_line(coarse) << "; fine " << fine;
+  EXPECT_GT(std::abs(coarse.levels[0].quantities.compliance - fine) / fine, 0.02) << discretisation_line(coarse);
+  EXPECT_LE(std::abs(coarse.levels[0].quantities.compliance - fine), coarse.estimated_error * fine);
 }
 
 TEST(Richardson, KnownSequences) {
@@ -70,7 +188,7 @@ TEST(DiscretisationEstimate, SupportsThatGrowUnderRefinementAreCaughtAndNamed) {
   ASSERT_EQ(scene.supports.size(), 1u);
   scene.supports[0].select.below[2] = 0.01;
   const DiscretisationEstimate e = uncut_estimate(scene);
-  ASSERT_EQ(e.levels.size(), 3u);
+  ASSERT_GE(e.levels.size(), 3u);  // (unsettled: h/8 too)
   EXPECT_NEAR(e.levels[0].clamped.length, 3.2, 0.01);
   EXPECT_GT(e.levels[2].clamped.length, 3.5);
   EXPECT_GT(e.support_change, 0.1);
@@ -84,12 +202,15 @@ TEST(DiscretisationEstimate, SupportsThatGrowUnderRefinementAreCaughtAndNamed) {
 TEST(DiscretisationEstimate, TheDefaultPavilionHoldsItsFeetOnEveryLevel) {
   // Selected exactly ("z below 1e-6"), the feet are the same 4 × 0.8 m on every mesh (chords of
   // the rim: within 3e-4), and the compliance no longer falls under refinement: 1.685, 1.751,
-  // 1.694 J at 0.35, 0.175, 0.0875 m, and 1.689 J at 0.05 m (1.688 J at 0.02 m, measured). The
-  // levels do not converge monotonically (the hexagonal rings meet the arches differently), so
-  // the estimate is the conservative "not asymptotic" one, and it must bracket the finer answer.
+  // 1.694, 1.685 J at 0.35, 0.175, 0.0875, 0.044 m, and 1.689 J at 0.05 m (1.688 J at 0.02 m,
+  // measured). The first three do not converge monotonically (the hexagonal rings meet the arches
+  // differently at each ring count: ±2% down to 0.1 m, ±0.3% below 0.08 m), and their cautious
+  // estimate (4.5%) exceeds the tolerance, so h/8 is solved; the finest three converge (observed
+  // order 2.7), and their extrapolation agrees with the finer run to within that ±0.3% of the
+  // geometry, which is as close as the estimate can tell.
   const Scene scene = load_scene("pavilion");
   const DiscretisationEstimate e = uncut_estimate(scene);
-  ASSERT_EQ(e.levels.size(), 3u);
+  ASSERT_EQ(e.levels.size(), 4u) << discretisation_line(e);
   EXPECT_TRUE(e.supports_consistent) << discretisation_line(e);
   EXPECT_LT(e.support_change, 1e-3);
   for (const DiscretisationLevel& l : e.levels) {
@@ -97,6 +218,8 @@ TEST(DiscretisationEstimate, TheDefaultPavilionHoldsItsFeetOnEveryLevel) {
     EXPECT_EQ(l.clamped.area, 0.0);
     EXPECT_EQ(l.clamped.points, 0);
   }
+  EXPECT_EQ(e.rule, "richardson");
+  EXPECT_TRUE(e.converged) << discretisation_line(e);
   // A finer run, the generator at 0.05 m.
   Scene fine = scene;
   fine.mesh.sim_edge_length = 0.05;
@@ -107,8 +230,9 @@ TEST(DiscretisationEstimate, TheDefaultPavilionHoldsItsFeetOnEveryLevel) {
   const Eigen::VectorXd alpha = solid(meshes.sim);
   solver.solve(alpha);
   const double c_fine = summarize_equilibrium(model, solver.positions(), alpha).compliance;
+  EXPECT_LT(std::abs(e.compliance.extrapolated - c_fine) / c_fine, 0.005) << discretisation_line(e);
   const double c_h = e.levels[0].quantities.compliance;
-  EXPECT_LE(std::abs(c_h - c_fine), e.estimated_error * c_fine) << discretisation_line(e);
+  EXPECT_LE(std::abs(c_h - c_fine), (e.estimated_error + 0.005) * c_fine) << discretisation_line(e);
   // Within 2% of it: the 35% "discretisation error" the old selection showed was the supports.
   EXPECT_LT(std::abs(c_h - c_fine) / c_fine, 0.02);
 }

@@ -71,7 +71,9 @@ nlohmann::json scene_doc(const LatticeCase& c, double bounding_radius, double si
   // The square lattice runs along x (the default lattice_axis); `lattice` "hexagonal" gives it the
   // hexagonal lattice's calibration instead, as before the rule knew the square one.
   if (!c.hexagonal) doc["mechanics"]["lattice"] = c.calibration;
-  if (!c.hexagonal && c.angle != 0) doc["mechanics"]["lattice_axis"] = {std::cos(c.angle), std::sin(c.angle), 0.0};
+  // (The hexagonal calibration has no axis: a scene that gave it one would be refused.)
+  if (!c.hexagonal && c.angle != 0 && std::string(c.calibration) == "square")
+    doc["mechanics"]["lattice_axis"] = {std::cos(c.angle), std::sin(c.angle), 0.0};
   doc["stencils"] = nlohmann::json::array({{{"name", c.shape}, {"kind", c.shape}, {"params", nlohmann::json::object()}}});
   doc["pattern"]["scale"] = bounding_radius;
   // A star's bounding circles overlap on the square lattice at α 0.67 (its tips interleave): the

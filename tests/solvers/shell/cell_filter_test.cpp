@@ -61,6 +61,12 @@ TEST(CellFilter, BlendKeepsResolvedFacesAndAveragesLargeOnes) {
   for (int t = 0; t < mesh.num_faces(); ++t) alpha[t] = u(gen);
   EXPECT_EQ((resolved.apply(alpha) - alpha).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(resolved.blend().maxCoeff(), 0.0);
+  EXPECT_EQ(resolved.resolution().minCoeff(), 1.0);
+  // Stencils smaller than an edge: every face takes the cell's α and resolves nothing.
+  const CellFilter large(mesh, constant(mesh, 0.025), constant(mesh, 0.02));  // (border faces are halves)
+  EXPECT_EQ(large.blend().minCoeff(), 1.0);
+  EXPECT_EQ(large.resolution().maxCoeff(), 0.0);
+  EXPECT_EQ(CellFilter().resolution().size(), 0);
 }
 
 // Faces marked to keep their own α (scene_cell_filter marks those at a clamp) are rows of the
@@ -87,6 +93,8 @@ TEST(CellFilter, MarkedFacesKeepTheirOwnFillRatio) {
       ++n_marked;
       EXPECT_EQ(b[t], alpha[t]) << "face " << t;
       EXPECT_EQ(kept.blend()[t], 0.0);
+      EXPECT_EQ(kept.resolution()[t], plain.resolution()[t]);  // a mark is not a resolution
+      EXPECT_EQ(kept.resolution()[t], 1 - plain.blend()[t]);
       n_filtered += a[t] != alpha[t];
     } else {
       EXPECT_EQ(b[t], a[t]) << "face " << t;

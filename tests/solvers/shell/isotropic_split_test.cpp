@@ -290,7 +290,9 @@ TEST(SquareLattice, TheAxisIsProjectedOntoEachFace) {
   ElementEnergies unit;
   shell_energy(normal, x, p.alpha, &unit);
   for (int e = 0; e < normal.num_elements(); ++e)
-    if (normal.element(e).part == FillPart::Anisotropy) EXPECT_EQ(unit[e], 0.0);
+    if (normal.element(e).part == FillPart::Anisotropy) {
+      EXPECT_EQ(unit[e], 0.0);
+    }
 }
 
 }  // namespace
