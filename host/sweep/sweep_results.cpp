@@ -31,7 +31,10 @@ std::string csv_value(const json& v) { return v.is_string() ? v.get<std::string>
 
 std::string csv_line(const std::vector<std::string>& cells) {
   std::string line;
-  for (size_t i = 0; i < cells.size(); ++i) line += (i ? "," : "") + csv_field(cells[i]);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (i) line += ',';
+    line += csv_field(cells[i]);
+  }
   return line + "\n";
 }
 
@@ -46,6 +49,14 @@ void VariantResult::take_report(const json& report) {
   W_max_final = number_or_nan(st.at("W_max_final"));
   compliance = number_or_nan(st.at("compliance_final"));
   max_displacement = number_or_nan(st.at("max_displacement_final"));
+  W_peak_final = number_or_nan(st.value("W_peak_max_final", json()));
+  W_lig_final = st.contains("ligaments") ? number_or_nan(st["ligaments"].value("W_ligament_max", json())) : NAN;
+  // How far from converged the compliance is (absent with --no-discretisation-estimate).
+  const json& d = report.value("discretisation", json());
+  if (d.is_object() && d.contains("final")) {
+    compliance_error = number_or_nan(d["final"].value("estimated_error", json()));
+    converged = d["final"].value("converged", false) ? 1 : 0;
+  }
 }
 
 json VariantResult::to_json() const {
@@ -58,7 +69,11 @@ json VariantResult::to_json() const {
           {"W_max_uncut", number_or_null(W_max_uncut)},
           {"W_max_pattern", number_or_null(W_max_pattern)},
           {"W_max_final", number_or_null(W_max_final)},
+          {"W_peak_final", number_or_null(W_peak_final)},
+          {"W_lig_final", number_or_null(W_lig_final)},
           {"compliance", number_or_null(compliance)},
+          {"compliance_error", number_or_null(compliance_error)},
+          {"converged", converged < 0 ? json(nullptr) : json(converged == 1)},
           {"max_displacement", number_or_null(max_displacement)},
           {"seconds", seconds},
           {"rank", rank}};
@@ -77,6 +92,11 @@ VariantResult VariantResult::from_json(const json& j, const std::string& origin)
     r.W_max_pattern = number_or_nan(j.at("W_max_pattern"));
     r.W_max_final = number_or_nan(j.at("W_max_final"));
     r.compliance = number_or_nan(j.at("compliance"));
+    // (Markers of sweeps run before these were recorded have none of them.)
+    r.W_peak_final = number_or_nan(j.value("W_peak_final", json()));
+    r.W_lig_final = number_or_nan(j.value("W_lig_final", json()));
+    r.compliance_error = number_or_nan(j.value("compliance_error", json()));
+    if (j.contains("converged") && j["converged"].is_boolean()) r.converged = j["converged"].get<bool>() ? 1 : 0;
     r.max_displacement = number_or_nan(j.at("max_displacement"));
     r.seconds = j.at("seconds").get<double>();
     r.rank = j.value("rank", 0);
@@ -90,7 +110,8 @@ std::string summary_csv(const std::vector<std::string>& axis_pointers, const std
   std::vector<std::string> header{"id"};
   header.insert(header.end(), axis_pointers.begin(), axis_pointers.end());
   for (const char* c : {"status", "reason", "stencils", "material_fraction", "W_max_uncut", "W_max_pattern",
-                        "W_max_final", "compliance", "max_displacement", "seconds"})
+                        "W_max_final", "W_peak_final", "W_lig_final", "compliance", "compliance_error", "converged",
+                        "max_displacement", "seconds"})
     header.emplace_back(c);
   std::string text = csv_line(header);
   for (const VariantResult& r : results) {
@@ -98,8 +119,13 @@ std::string summary_csv(const std::vector<std::string>& axis_pointers, const std
     for (const json& v : r.values) row.push_back(csv_value(v));
     row.insert(row.end(), {r.ok ? "ok" : "failed", r.reason, r.ok ? std::to_string(r.stencils) : std::string(),
                            csv_number(r.material_fraction), csv_number(r.W_max_uncut), csv_number(r.W_max_pattern),
-                           csv_number(r.W_max_final), csv_number(r.compliance), csv_number(r.max_displacement),
-                           fmt::format("{:.3f}", r.seconds)});
+                           csv_number(r.W_max_final), csv_number(r.W_peak_final), csv_number(r.W_lig_final),
+                           csv_number(r.compliance),
+                           // Four digits: the estimate's refined solves run with the variant's
+                           // share of the threads, and its last digits follow the BLAS's blocking.
+                           std::isfinite(r.compliance_error) ? fmt::format("{:.4g}", r.compliance_error) : std::string(),
+                           r.converged < 0 ? std::string() : std::string(r.converged ? "yes" : "no"),
+                           csv_number(r.max_displacement), fmt::format("{:.3f}", r.seconds)});
     text += csv_line(row);
   }
   return text;

@@ -19,7 +19,11 @@ struct VariantResult {
   int stencils = 0;
   double material_fraction = NAN;
   double W_max_uncut = NAN, W_max_pattern = NAN, W_max_final = NAN;
+  double W_peak_final = NAN;           ///< the ligament peak estimate of the final design (J/m²)
+  double W_lig_final = NAN;            ///< narrow ligaments' W_lig (J/m²; NaN: none searched)
   double compliance = NAN;             ///< of the final design
+  double compliance_error = NAN;       ///< its discretisation estimate (NaN: not estimated)
+  int converged = -1;                  ///< the estimate's verdict: 1, 0, or −1 (not estimated)
   double max_displacement = NAN;       ///< of the final design
   double seconds = 0;                  ///< wall time of the variant
   int rank = 0;                        ///< the MPI rank that ran it (0 without MPI)
@@ -32,8 +36,11 @@ struct VariantResult {
 };
 
 /// The summary table: id, one column per axis (headed by its JSON pointer), status, reason,
-/// stencils, material_fraction, W_max_uncut, W_max_pattern, W_max_final, compliance,
-/// max_displacement, seconds. Numbers in shortest round-trip form; missing ones empty.
+/// stencils, material_fraction, W_max_uncut, W_max_pattern, W_max_final, W_peak_final, W_lig_final,
+/// compliance, compliance_error (the final design's discretisation estimate), converged (yes / no),
+/// max_displacement, seconds. Numbers in shortest round-trip form (compliance_error to four
+/// significant digits: its refined solves' last digits depend on the threads a variant ran with);
+/// missing ones empty.
 std::string summary_csv(const std::vector<std::string>& axis_pointers, const std::vector<VariantResult>& results);
 
 /// Indices of the points not dominated by any other (both coordinates minimised: a point is

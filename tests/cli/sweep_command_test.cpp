@@ -103,6 +103,12 @@ TEST_F(SweepCommand, EveryVariantHasItsFolderAndAFailingOneDoesNotStopTheOthers)
     EXPECT_EQ(std::stod(row[t.column("W_max_final")]), report["structure"]["W_max_final"].get<double>());
     EXPECT_EQ(std::stod(row[t.column("material_fraction")]), report["structure"]["material_fraction_final"].get<double>());
     EXPECT_EQ(std::stoi(row[t.column("stencils")]), report["stencils"]["count"].get<int>());
+    EXPECT_EQ(std::stod(row[t.column("W_peak_final")]), report["structure"]["W_peak_max_final"].get<double>());
+    // How far from converged the compliance is, as its report says.
+    const auto& estimate = report["discretisation"]["final"];
+    EXPECT_NEAR(std::stod(row[t.column("compliance_error")]), estimate["estimated_error"].get<double>(),
+                5e-4 * estimate["estimated_error"].get<double>());  // (four digits)
+    EXPECT_EQ(row[t.column("converged")], estimate["converged"].get<bool>() ? "yes" : "no");
     EXPECT_EQ(std::stod(row[t.column("/material/thickness")]), i < 2 ? 0.002 : 0.004);
     std::ifstream sin(dir / "scene.json");
     EXPECT_EQ(nlohmann::json::parse(sin)["material"]["thickness"].get<double>(), i < 2 ? 0.002 : 0.004);
