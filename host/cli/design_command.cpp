@@ -330,8 +330,9 @@ void add_design_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,
-                "skip the solves at half the simulation edge length (uncut and final design) that estimate how far "
-                "from converged the numbers are (report.json `discretisation`)");
+                "skip the solves at half and a quarter of the simulation edge length (and an eighth where those "
+                "have not settled), of the uncut shell and of the final design with its material held, that "
+                "estimate how far from converged the numbers are (report.json `discretisation`)");
   cmd->callback([opts] { run_design_command(*opts); });
 }
 

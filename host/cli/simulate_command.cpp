@@ -265,8 +265,9 @@ void add_simulate_command(CLI::App& app) {
   add_device_option(*cmd, opts->device);
   add_output_options(*cmd, opts->outputs);
   cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,
-                "skip the second solve at half the simulation edge length that estimates how far from converged "
-                "the numbers are (report.json `discretisation`)");
+                "skip the solves at half and a quarter of the simulation edge length (and an eighth where those "
+                "have not settled), with the same material, that estimate how far from converged the numbers are "
+                "(report.json `discretisation`)");
   cmd->callback([opts] { run_simulate(*opts); });
 }
 
