@@ -480,7 +480,8 @@ static void check_ascii_stl_grammar(std::string_view text, const std::string& wh
     if (token != word) fail(fmt::format("'{}' where '{}' was expected", excerpt(token, 40), word));
   };
   // The three numbers on the keyword's own line, as assimp reads them: separated by spaces and
-  // tabs only, the line ending at a carriage return, form feed or NUL as well as at '\n', each a
+  // tabs only, the line ending at a carriage return, form feed or NUL (refused before this is
+  // reached: check_stl_structure) as well as at '\n', each a
   // plain number (is_plain_real). Past the line's end, or on anything else, assimp throws and
   // leaks what it built. What follows the numbers stays in the stream.
   auto numbers = [&](const std::string& of) {
@@ -578,6 +579,12 @@ void check_stl_structure(std::string_view content, const std::string& what) {
                                  "declaring {} facets would be {} bytes long, not {}",
                                  what, facets, 84 + 50 * facets, content.size()));
   }
+  // An ASCII STL is text. assimp ends a line at a NUL and reads on, but a NUL between a facet's
+  // vertices (fuzzer: "vertex 0 1 .0<NUL>      vertex 1 0 0") makes it throw and leak what it
+  // built; no exporter writes one, so it is refused wherever it is.
+  if (const std::size_t nul = content.find('\0'); nul != std::string_view::npos)
+    throw InputError(fmt::format("{}: cannot be parsed: ASCII STL: a NUL byte at offset {} (line {}); an ASCII STL is text",
+                                 what, nul, 1 + std::count(content.begin(), content.begin() + std::ptrdiff_t(nul), '\n')));
   check_ascii_stl_grammar(content.substr(start), what);
 }
 

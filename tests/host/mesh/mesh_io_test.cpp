@@ -497,6 +497,20 @@ TEST(ReadMesh, AsciiStlNumbersAreReadAsAssimpReadsThem) {
   }
   spit(dir / "good.stl", stl("1.0e0\t-0 +0."));
   EXPECT_EQ(read_mesh(dir / "good.stl").num_faces(), 1);
+  // A NUL anywhere in an ASCII STL (the fuzzer: one ending a vertex's line, where assimp leaked) is
+  // refused with its offset and line.
+  for (const std::string& third : {std::string("1 0 0") + '\0', std::string("1 0") + '\0' + "0"}) {
+    spit(dir / "nul.stl", stl(third));
+    try {
+      read_mesh(dir / "nul.stl");
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("a NUL byte at offset"), std::string::npos) << what;
+      EXPECT_NE(what.find("(line 6)"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\0'), std::string::npos);
+    }
+  }
 }
 
 TEST(ReadMesh, HeaderCountsAreCheckedAgainstTheFileSize) {
