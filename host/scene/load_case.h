@@ -1,6 +1,7 @@
 #pragma once
 /// What the mechanics needs from a scene, resolved onto one (simulation) mesh: plain arrays, no
 /// JSON. Built by host/scene (resolve_load_case) and consumed by solvers/.
+#include <array>
 #include <vector>
 
 #include "host/core/types.h"
@@ -90,6 +91,19 @@ enum class SupportKind {
   Clamped,  ///< pinned, and the surface's tangent plane along them cannot rotate
 };
 
+/// A load spread over the surface (an area or pressure load, or a point load's patch) as the faces
+/// inside its region carry it. `LoadCase::forces` holds it spread by area, as on a surface without
+/// holes; the built shell carries it on its material (docs/SCENES.md "Loads over holes": the total
+/// of the uncut region, spread over the material left), so a model of fill ratios α spreads it in
+/// proportion to α_t a_t with the same total (ShellModel::external_forces):
+///   f(α) = (Σ_t a_t / Σ_t α_t a_t) Σ_t α_t F_t,
+/// which is `forces`' share Σ_t F_t where α ≡ 1 (a mesh with the holes cut).
+struct SurfaceLoad {
+  std::vector<int> faces;                  ///< the faces the region covers
+  std::vector<double> areas;               ///< a_t: the region's area in each (m², > 0)
+  std::vector<std::array<Vec3, 3>> nodal;  ///< F_t: the force on each of the face's vertices at α ≡ 1 (N)
+};
+
 /// Supports and loads on a mesh with #V vertices.
 struct LoadCase {
   /// #V: vertex positions that are fixed (pinned).
@@ -99,6 +113,9 @@ struct LoadCase {
   std::vector<bool> clamped;
   /// #V×3 dead loads (N) that do not depend on the fill ratios: point, edge and area loads.
   RowMatX3d forces;
+  /// The loads among `forces` that are spread over the surface, face by face: a model of fill
+  /// ratios moves them onto the material (SurfaceLoad). Empty: every load stays where `forces` has it.
+  std::vector<SurfaceLoad> surface_loads;
   /// Gravitational acceleration for self-weight (m/s²); zero when the scene has none. The
   /// self-weight of face t is α_t ρ h A_t g, lumped equally to its three vertices.
   Vec3 gravity = Vec3::Zero();

@@ -723,7 +723,8 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
   // Spread a traction (per face, N/m²) over the surface inside the selector's region, or a force
   // per length (N/m) along its (boundary) edges, with consistent nodal weights; add to `out` and
   // return the area or length covered.
-  auto spread_over_area = [&](const Selector& sel, auto&& traction_of_face, RowMatX3d& out) {
+  // `record` keeps each face's share (SurfaceLoad).
+  auto spread_over_area = [&](const Selector& sel, auto&& traction_of_face, RowMatX3d& out, SurfaceLoad& record) {
     double measure = 0;
     for (int f = 0; f < mesh.num_faces(); ++f) {
       const Vec3 a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
@@ -733,6 +734,9 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
       const Vec3 w = triangle_nodal_weights(a, b, c, m);
       const Vec3 t = traction_of_face(f);
       for (int k = 0; k < 3; ++k) out.row(F(f, k)) += w[k] * t.transpose();
+      record.faces.push_back(f);
+      record.areas.push_back(m.measure);
+      record.nodal.push_back({w[0] * t, w[1] * t, w[2] * t});
     }
     return measure;
   };
@@ -773,6 +777,7 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
     }
     const Selector& sel = l.select;
     RowMatX3d forces = RowMatX3d::Zero(nv, 3);
+    SurfaceLoad surface;  // the faces' shares of a load spread over the surface
     double& measure = lc.load_measures[i];
     bool per_measure = true;  // a load per area or length (scaled to match), not a total
     if (sel.nearest > 0) {
@@ -801,6 +806,9 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
             const Vec3 t = l.kind == LoadKind::Area ? l.force : Vec3(l.pressure * mesh.face_normals().row(f).transpose());
             for (int k = 0; k < 3; ++k) forces.row(F(f, k)) += (A / 3.0) * t.transpose();
             measure += A;
+            surface.faces.push_back(f);
+            surface.areas.push_back(A);
+            surface.nodal.push_back({A / 3.0 * t, A / 3.0 * t, A / 3.0 * t});
           }
           break;
         case LoadKind::SelfWeight: break;
@@ -813,9 +821,11 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
           per_measure = false;
           const bool line = sel.entity == Entity::BoundaryVertices;
           measure = line ? spread_over_line(sel, l.force, forces)
-                         : spread_over_area(sel, [&](int) { return l.force; }, forces);
+                         : spread_over_area(sel, [&](int) { return l.force; }, forces, surface);
           if (!(measure > 0)) throw nothing_inside(sel, line ? "boundary length" : "surface area");
           forces /= measure;
+          for (auto& n : surface.nodal)
+            for (Vec3& v : n) v /= measure;
           break;
         }
         case LoadKind::Edge:
@@ -829,7 +839,7 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
               [&](int f) {
                 return l.kind == LoadKind::Area ? l.force : Vec3(l.pressure * mesh.face_normals().row(f).transpose());
               },
-              forces);
+              forces, surface);
           if (!(measure > 0)) throw nothing_inside(sel, "surface area");
           break;
         case LoadKind::SelfWeight: break;
@@ -838,10 +848,14 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
     // A load per area or length carries the total of the load case it matches: on a mesh with
     // holes cut, the share that falls on the holes goes to the material left in the region.
     if (match_totals && per_measure && measure > 0) {
-      forces *= match_totals->load_measures[i] / measure;
+      const double ratio = match_totals->load_measures[i] / measure;
+      forces *= ratio;
+      for (auto& n : surface.nodal)
+        for (Vec3& v : n) v *= ratio;
       measure = match_totals->load_measures[i];
     }
     lc.forces += forces;
+    if (!surface.faces.empty()) lc.surface_loads.push_back(std::move(surface));
   }
   return lc;
 }

@@ -84,13 +84,8 @@ ObjectiveTerms compliance_terms(const ShellModel& model, const RowMatX3d& x, con
   t.d_positions = model.external_forces(alpha);
   t.value = (t.d_positions.array() * u.array()).sum();
   zero_fixed_rows(model, t.d_positions);
-  const RowMatX3i& F = model.mesh().faces();
   t.d_alpha.setZero(model.num_faces());
-  for (int f = 0; f < model.num_faces(); ++f) {
-    const Vec3 w = model.self_weight_per_vertex_and_alpha(f);
-    if (w.squaredNorm() == 0) continue;
-    for (int k = 0; k < 3; ++k) t.d_alpha[f] += w.dot(u.row(F(f, k)).transpose());
-  }
+  model.add_load_alpha_product(u, alpha, t.d_alpha);
   return t;
 }
 

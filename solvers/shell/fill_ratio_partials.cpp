@@ -1,5 +1,6 @@
 #include "solvers/shell/fill_ratio_partials.h"
 
+#include <algorithm>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -36,7 +37,6 @@ Eigen::VectorXd energy_alpha_gradient(const ShellModel& model, const RowMatX3d& 
 
 Eigen::VectorXd force_alpha_product(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const Eigen::VectorXd& lambda) {
-  const std::vector<int>& node = model.vertex_node();
   const int ne = model.num_elements();
   // λ · (unit element gradient), per element, in parallel.
   std::vector<double> lg(std::size_t(ne), 0.0);
@@ -47,15 +47,10 @@ Eigen::VectorXd force_alpha_product(const ShellModel& model, const RowMatX3d& x,
   // f = −∂Ŵ/∂x + f_ext: the elastic part enters with a minus sign.
   for (int e = 0; e < ne; ++e)
     for_each_fill_dependence(model, alpha, e, [&](int face, double dscale) { out[face] -= dscale * lg[e]; });
-  const RowMatX3i& F = model.mesh().faces();
-  for (int t = 0; t < model.num_faces(); ++t) {
-    const Vec3 w = model.self_weight_per_vertex_and_alpha(t);
-    if (w.squaredNorm() == 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      const int n = node[F(t, k)];
-      if (n >= 0) out[t] += lambda.segment<3>(3 * n).dot(w);
-    }
-  }
+  // The external forces' part: self-weight and the surface loads (λ is zero on fixed vertices).
+  RowMatX3d lambda_v = RowMatX3d::Zero(model.num_vertices(), 3);
+  model.scatter_free(lambda, lambda_v);
+  model.add_load_alpha_product(lambda_v, alpha, out);
   return out;
 }
 
@@ -81,6 +76,36 @@ Eigen::SparseMatrix<double> force_alpha_jacobian(const ShellModel& model, const 
       const int n = node[F(t, k)];
       if (n < 0) continue;
       for (int c = 0; c < 3; ++c) triplets.emplace_back(3 * n + c, t, w[c]);
+    }
+  }
+  // Surface loads: ∂f/∂α_t = s F_t − (a_t / Σ α a) f, dense over the load's faces and vertices.
+  for (const SurfaceLoad& sl : model.load_case().surface_loads) {
+    const double s = ShellModel::surface_load_scale(sl, alpha);
+    double material = 0;
+    RowMatX3d f = RowMatX3d::Zero(model.num_vertices(), 3);
+    std::vector<int> loaded;
+    for (std::size_t i = 0; i < sl.faces.size(); ++i) {
+      const int t = sl.faces[i];
+      material += alpha[t] * sl.areas[i];
+      for (int k = 0; k < 3; ++k) {
+        f.row(F(t, k)) += s * alpha[t] * sl.nodal[i][std::size_t(k)].transpose();
+        loaded.push_back(F(t, k));
+      }
+    }
+    std::sort(loaded.begin(), loaded.end());
+    loaded.erase(std::unique(loaded.begin(), loaded.end()), loaded.end());
+    for (std::size_t i = 0; i < sl.faces.size(); ++i) {
+      const int t = sl.faces[i];
+      for (int k = 0; k < 3; ++k) {
+        const int n = node[F(t, k)];
+        if (n < 0) continue;
+        for (int c = 0; c < 3; ++c) triplets.emplace_back(3 * n + c, t, s * sl.nodal[i][std::size_t(k)][c]);
+      }
+      for (int v : loaded) {
+        const int n = node[v];
+        if (n < 0) continue;
+        for (int c = 0; c < 3; ++c) triplets.emplace_back(3 * n + c, t, -sl.areas[i] / material * f(v, c));
+      }
     }
   }
   Eigen::SparseMatrix<double> J(model.num_dofs(), model.num_faces());

@@ -26,7 +26,7 @@ std::string point_text(const Vec3& p) { return fmt::format("({:.4g}, {:.4g}, {:.
 
 /// The load case must match the mesh (#V entries; empty ones are filled in as "none") and be
 /// finite.
-void check_load_case(LoadCase& lc, int nv) {
+void check_load_case(LoadCase& lc, int nv, int nf) {
   if (lc.fixed.empty()) lc.fixed.assign(nv, false);
   if (lc.clamped.empty()) lc.clamped.assign(nv, false);
   if (lc.forces.rows() == 0) lc.forces = RowMatX3d::Zero(nv, 3);
@@ -40,6 +40,22 @@ void check_load_case(LoadCase& lc, int nv) {
   }
   if (!lc.gravity.allFinite())
     throw SolveError("the loads are not finite: gravity is " + point_text(lc.gravity) + " m/s^2");
+  for (std::size_t l = 0; l < lc.surface_loads.size(); ++l) {
+    const SurfaceLoad& sl = lc.surface_loads[l];
+    if (sl.areas.size() != sl.faces.size() || sl.nodal.size() != sl.faces.size())
+      throw InputError(fmt::format("load case: surface load {} has {} faces, {} areas and {} nodal forces", l,
+                                   sl.faces.size(), sl.areas.size(), sl.nodal.size()));
+    for (std::size_t i = 0; i < sl.faces.size(); ++i) {
+      if (sl.faces[i] < 0 || sl.faces[i] >= nf)
+        throw InputError(fmt::format("load case: surface load {} names face {}, the mesh has {}", l, sl.faces[i], nf));
+      if (!(sl.areas[i] > 0) || !std::isfinite(sl.areas[i]))
+        throw InputError(fmt::format("load case: surface load {} covers {} m^2 of face {}", l, sl.areas[i], sl.faces[i]));
+      for (const Vec3& f : sl.nodal[i])
+        if (!f.allFinite())
+          throw SolveError(fmt::format("the loads are not finite: surface load {} puts {} N on face {}", l,
+                                       point_text(f), sl.faces[i]));
+    }
+  }
 }
 
 /// Every connected part of the mesh must be held against rigid motion: some fixed vertex, and
@@ -170,7 +186,7 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   const RowMatX3i& F = mesh.faces();
 
   LoadCase& lc = m_load_case;
-  check_load_case(lc, nv);
+  check_load_case(lc, nv, nf);
   std::vector<bool> referenced(nv, false);
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) referenced[F(f, k)] = true;
@@ -348,14 +364,58 @@ void ShellModel::build_hinges() {
 
 RowMatX3d ShellModel::external_forces(const Eigen::VectorXd& alpha) const {
   RowMatX3d f = m_load_case.forces;
+  const RowMatX3i& F = m_mesh->faces();
   if (m_stiffness.areal_mass > 0 && m_load_case.gravity.squaredNorm() > 0) {
-    const RowMatX3i& F = m_mesh->faces();
     for (int t = 0; t < num_faces(); ++t) {
       const Vec3 w = alpha[t] * self_weight_per_vertex_and_alpha(t);
       for (int k = 0; k < 3; ++k) f.row(F(t, k)) += w.transpose();
     }
   }
+  // Surface loads onto the material: `forces` holds them spread by area (α ≡ 1); move each face's
+  // share to (s α_t − 1) F_t more, s = Σ a / Σ α a.
+  for (const SurfaceLoad& sl : m_load_case.surface_loads) {
+    const double s = surface_load_scale(sl, alpha);
+    for (std::size_t i = 0; i < sl.faces.size(); ++i) {
+      const int t = sl.faces[i];
+      for (int k = 0; k < 3; ++k) f.row(F(t, k)) += (s * alpha[t] - 1) * sl.nodal[i][std::size_t(k)].transpose();
+    }
+  }
   return f;
+}
+
+double ShellModel::surface_load_scale(const SurfaceLoad& load, const Eigen::VectorXd& alpha) {
+  double area = 0, material = 0;
+  for (std::size_t i = 0; i < load.faces.size(); ++i) {
+    area += load.areas[i];
+    material += alpha[load.faces[i]] * load.areas[i];
+  }
+  return area / material;
+}
+
+void ShellModel::add_load_alpha_product(const RowMatX3d& v, const Eigen::VectorXd& alpha, Eigen::VectorXd& out) const {
+  const RowMatX3i& F = m_mesh->faces();
+  if (m_stiffness.areal_mass > 0 && m_load_case.gravity.squaredNorm() > 0) {
+    for (int t = 0; t < num_faces(); ++t) {
+      const Vec3 w = self_weight_per_vertex_and_alpha(t);
+      for (int k = 0; k < 3; ++k) out[t] += w.dot(v.row(F(t, k)).transpose());
+    }
+  }
+  // f = s(α) Σ_t α_t F_t with s = A / S, S = Σ α_t a_t:
+  //   ∂f/∂α_t = s F_t − (a_t / S) f.
+  for (const SurfaceLoad& sl : m_load_case.surface_loads) {
+    std::vector<double> d(sl.faces.size());  // v · F_t
+    double area = 0, material = 0, weighted = 0;  // A, S, Σ α_t v · F_t
+    for (std::size_t i = 0; i < sl.faces.size(); ++i) {
+      const int t = sl.faces[i];
+      d[i] = 0;
+      for (int k = 0; k < 3; ++k) d[i] += sl.nodal[i][std::size_t(k)].dot(v.row(F(t, k)).transpose());
+      area += sl.areas[i];
+      material += alpha[t] * sl.areas[i];
+      weighted += alpha[t] * d[i];
+    }
+    const double s = area / material, vf = s * weighted;
+    for (std::size_t i = 0; i < sl.faces.size(); ++i) out[sl.faces[i]] += s * d[i] - sl.areas[i] / material * vf;
+  }
 }
 
 Vec3 ShellModel::self_weight_per_vertex_and_alpha(int face) const {

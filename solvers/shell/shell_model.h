@@ -190,9 +190,18 @@ class ShellModel {
   /// Pattern, scatter map and colouring of the reduced Hessian (built once).
   const BlockAssembly& assembly() const { return m_assembly; }
 
-  /// External forces f_ext(α) (#V×3, N): dead loads plus α-scaled self-weight. Rows of fixed
-  /// vertices included (they do no work).
+  /// External forces f_ext(α) (#V×3, N): dead loads plus α-scaled self-weight, with the loads
+  /// spread over the surface (LoadCase::surface_loads) carried by the material: each face's share
+  /// in proportion to α_t a_t, each load's total unchanged. Rows of fixed vertices included (they do
+  /// no work).
   RowMatX3d external_forces(const Eigen::VectorXd& alpha) const;
+  /// Adds v · ∂f_ext/∂α_t to out[t] (#F) for a #V×3 array v (pass zeros in rows that should not
+  /// count): self-weight's ρ h A_t g / 3 per vertex, and each surface load's
+  /// ∂f/∂α_t = s F_t − (a_t / Σ α a) f (not local: a face that loses material moves its share of
+  /// the load onto the others).
+  void add_load_alpha_product(const RowMatX3d& v, const Eigen::VectorXd& alpha, Eigen::VectorXd& out) const;
+  /// s = Σ a_t / Σ α_t a_t of a surface load at fill ratios α: f = s Σ α_t F_t.
+  static double surface_load_scale(const SurfaceLoad& load, const Eigen::VectorXd& alpha);
   /// ∂f_ext/∂α_t per face: the self-weight ρ h A_t g / 3 that face t puts on each of its vertices
   /// (N per unit fill ratio). Zero without gravity.
   Vec3 self_weight_per_vertex_and_alpha(int face) const;

@@ -297,6 +297,49 @@ TEST(LoadRegions, MatchedTotalsCarryTheLoadOverHoles) {
   EXPECT_NEAR(unmatched.load_measures[1], coarse.load_measures[1], 1e-15);
 }
 
+// What a model of fill ratios moves onto the material (LoadCase::surface_loads): every load spread
+// over the surface, face by face, adding up to its part of `forces`, with its area in each face.
+TEST(LoadRegions, SurfaceLoadsHoldEachFacesShare) {
+  const Scene scene = loaded_square_scene();
+  const SurfaceMesh mesh = square(13, 0.2, 13);
+  const LoadCase full = resolve_load_case(scene, mesh);
+  // The area load, the point load's patch and the pressure disc; the edge load is on a line.
+  ASSERT_EQ(full.surface_loads.size(), 3u);
+  const std::size_t load_of[3] = {0, 1, 2};  // their entries in scene.loads
+  auto check = [&](const LoadCase& lc) {
+    RowMatX3d rest = lc.forces;
+    for (std::size_t l = 0; l < lc.surface_loads.size(); ++l) {
+      const SurfaceLoad& sl = lc.surface_loads[l];
+      ASSERT_EQ(sl.areas.size(), sl.faces.size());
+      ASSERT_EQ(sl.nodal.size(), sl.faces.size());
+      double area = 0;
+      for (std::size_t i = 0; i < sl.faces.size(); ++i) {
+        EXPECT_GT(sl.areas[i], 0);
+        EXPECT_LE(sl.areas[i], mesh.face_areas()[sl.faces[i]] * (1 + 1e-12));
+        area += sl.areas[i];
+        for (int k = 0; k < 3; ++k) rest.row(mesh.faces()(sl.faces[i], k)) -= sl.nodal[i][std::size_t(k)].transpose();
+      }
+      // Its region's area on this mesh (the point load's measure is its patch's area too).
+      EXPECT_NEAR(area, full.load_measures[load_of[l]], 1e-12);
+    }
+    // What is left is the edge load: 40 N/m along y, nothing along x or z.
+    EXPECT_LE(rest.col(0).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LE(rest.col(2).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_NEAR(rest.col(1).sum(), 40 * (2 * (0.5 - 0.2113) + 1.0), 1e-9);
+  };
+  check(full);
+  // Matched to another mesh's totals, the shares are scaled with the forces.
+  const LoadCase other = resolve_load_case(scene, square(5, 0, 1));
+  LoadCase scaled_measures = other;
+  scaled_measures.load_measures[0] *= 0.8;  // as if 20% of the area load's region were holes
+  const LoadCase matched = resolve_load_case(scene, mesh, nullptr, &scaled_measures);
+  RowMatX3d area_share = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  for (std::size_t i = 0; i < matched.surface_loads[0].faces.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      area_share.row(mesh.faces()(matched.surface_loads[0].faces[i], k)) += matched.surface_loads[0].nodal[i][std::size_t(k)].transpose();
+  EXPECT_NEAR(area_share.col(2).sum(), -1500 * scaled_measures.load_measures[0], 1e-9);
+}
+
 TEST(LoadRegions, ARegionWithoutSurfaceIsAnError) {
   json d = json::parse(R"({
     "mesh": {"generator": "sheet", "edge_length": 0.1},

@@ -146,11 +146,15 @@ struct CoarseRun {
   int faces = 0;
 };
 
-CoarseRun coarse_compliance(const nlohmann::json& doc, std::span<const StencilParams> stencils) {
+/// `loads_on_material` false: the loads spread over the surface stay spread by area whatever α
+/// (the rule before the loads went onto the material, LoadCase::surface_loads).
+CoarseRun coarse_compliance(const nlohmann::json& doc, std::span<const StencilParams> stencils,
+                            bool loads_on_material = true) {
   const Scene scene = parse_scene(doc, "test:lattice");
   const SceneMeshes meshes = build_scene_meshes(scene);
   const PatternContext ctx(scene, meshes);
-  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  LoadCase lc = resolve_load_case(scene, meshes.sim);
+  if (!loads_on_material) lc.surface_loads.clear();
   const Eigen::VectorXd alpha = design_fill_ratios(scene, ctx, meshes.sim, stencils);
   const ShellModel model(meshes.sim, scene.material, lc, resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material));
   EquilibriumSolver solver(model);
@@ -283,7 +287,8 @@ TEST(PerforatedLattice, CellFilteredComplianceDoesNotDependOnTheTriangleSize) {
 // is closer than the per-face homogenised rule, which is closer than the paper's linear rule, and
 // within the 3%. The full table (CUTWORK_LATTICE_TABLE=1, in docs/DESIGN.md) has the rest:
 // every hexagonal cantilever within 1.2% at 1 d and 2 d, the square ones (with the square
-// lattice's calibration) within 2.7%; plates clamped all round at α 0.5 9–12% too soft.
+// lattice's calibration) within 2.7%; hexagonal plates clamped all round (the pressure on the
+// material) 3–8% too stiff over the coarse mesh's own error at 1 d, which the clamp rule adds.
 /// Case c on the 0.12 m × 0.06 m plate of the assertions below: its stencil scale and stencils.
 struct SmallPlate {
   LatticeCase c;
@@ -317,6 +322,36 @@ TEST(PerforatedLattice, CellFilteredHomogenisedRuleIsClosestToTheConformingPlate
   // 0.930 with the scalar g (which gave the perforated plate the solid's Poisson ratio), 0.791 with
   // the linear rule.
   EXPECT_NEAR(filtered, 1.0, 0.03);
+}
+
+// A plate clamped all round under 100 Pa (circles, hexagonal lattice, α 0.5, the 0.12 m × 0.06 m
+// plate, triangles one stencil diameter across). The hexagonal rows leave solid margins between the
+// border and the first holes (up to 11.7 mm here), where the built plate carries more of the
+// pressure per area than in its perforated middle. With the load spread by area whatever α (the
+// rule before LoadCase::surface_loads) the coarse plate put that share on the middle and read too
+// soft; carried by the material, as the conforming plate carries it, it is close. Measured over
+// the coarse mesh's own error (the uncut plate's coarse / conforming, 1.108 here): 0.965 on the
+// material, 1.288 spread by area. The 3% is missed by half a percent on this plate; the
+// assertion is 5%, and the by-area rule must be at least 5% softer.
+TEST(PerforatedLattice, AClampedPlateCarriesItsPressureOnItsMaterial) {
+  LatticeCase clamped_case;
+  clamped_case.alpha = 0.5;
+  clamped_case.cantilever = false;
+  const SmallPlate plate{clamped_case};
+  const Reference ref = conforming_reference(plate.c, plate.scale, plate.stencils, 150'000);
+  const Reference solid = conforming_reference(plate.c, plate.scale, {}, 150'000);
+  ASSERT_GE(ref.levels, 2);
+  ASSERT_GE(solid.levels, 2);
+  const double uncut = compliance(plate.c, plate.scale, 1, "linear", "none", {}) / solid.compliance;
+  const nlohmann::json doc = scene_doc(plate.c, plate.scale, 2 * plate.scale, "homogenised", "cell");
+  const double on_material = coarse_compliance(doc, plate.stencils).compliance / ref.compliance / uncut;
+  const double by_area = coarse_compliance(doc, plate.stencils, false).compliance / ref.compliance / uncut;
+  std::printf("clamped plate, hex α 0.5, h = 1 d: coarse / conforming C∞ over the uncut plate's %.3f (%d levels, "
+              "error bar %.1f%%): pressure on the material %.3f, spread by area %.3f\n",
+              uncut, ref.levels, 100 * ref.error_bar / ref.compliance, on_material, by_area);
+  EXPECT_LT(std::abs(on_material - 1), std::abs(by_area - 1));
+  EXPECT_GT(by_area, on_material * 1.05) << "the load on the holes' share of the middle makes it softer";
+  EXPECT_NEAR(on_material, 1.0, 0.05);
 }
 
 // The square lattice (mechanics.lattice "square"): circles at α 0.5 on a 0.12 m × 0.06 m

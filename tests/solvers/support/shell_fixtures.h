@@ -71,6 +71,24 @@ struct CapFixture {
       if (p.x() > 0.5 - 1e-9 && (p.y() < 1e-9 || p.y() > 0.4 - 1e-9)) lc.fixed[v] = true;
     }
     lc.forces = test::pressure_forces(mesh, 400.0, Vec3(0.2, 0, -1).normalized());
+    // A second load spread over part of the surface, carried by the material (SurfaceLoad): 300 Pa
+    // normal to the faces beyond x = 0.2, over a share of each face as a region's clipped piece
+    // would cover (0.3–1 of it), so the partials and the adjoint see its non-local derivative.
+    SurfaceLoad patch;
+    std::mt19937 cover(seed + 1000);
+    std::uniform_real_distribution<double> share(0.3, 1.0);
+    for (int t = 0; t < mesh.num_faces(); ++t) {
+      const Vec3 c = (mesh.vertices().row(mesh.faces()(t, 0)) + mesh.vertices().row(mesh.faces()(t, 1)) +
+                      mesh.vertices().row(mesh.faces()(t, 2))).transpose() / 3.0;
+      if (c.x() < 0.2) continue;
+      const double a = share(cover) * mesh.face_areas()[t];
+      const Vec3 f = 300.0 * a / 3.0 * mesh.face_normals().row(t).transpose();
+      patch.faces.push_back(t);
+      patch.areas.push_back(a);
+      patch.nodal.push_back({f, f, f});
+      for (int k = 0; k < 3; ++k) lc.forces.row(mesh.faces()(t, k)) += f.transpose();
+    }
+    lc.surface_loads.push_back(std::move(patch));
     lc.gravity = Vec3(0, 0, -9.81);
     MechanicsSettings mech;
     mech.bending = bending;
