@@ -73,10 +73,17 @@ enum class FillFilter {
          ///< (solvers/shell/cell_filter.h)
 };
 
+/// Where the coarse model puts a load spread over the surface (scene key "mechanics.loads").
+enum class LoadSpread {
+  Material,  ///< each face's share in proportion to the material in it, α_t a_t (SurfaceLoad; default)
+  Area,      ///< by area whatever α (the paper's model, and cutwork's before the loads went onto the material)
+};
+
 struct MechanicsSettings {
   BendingModel bending = BendingModel::ShapeOperator;
   FillStiffness stiffness = FillStiffness::Linear;
   FillFilter filter = FillFilter::None;
+  LoadSpread loads = LoadSpread::Material;
   /// The perforation's lattice, and for a square one the direction of one of its axes (a unit
   /// vector, projected onto each face's tangent plane; a face it is normal to takes the isotropic
   /// part only).

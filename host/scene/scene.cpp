@@ -197,6 +197,8 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   mechanics.stiffness = stiffness == "homogenised" ? FillStiffness::Homogenised : FillStiffness::Linear;
   const std::string filter = m.string("filter", "cell", {"none", "cell"});
   mechanics.filter = filter == "cell" ? FillFilter::Cell : FillFilter::None;
+  const std::string loads = m.string("loads", "material", {"material", "area"});
+  mechanics.loads = loads == "area" ? LoadSpread::Area : LoadSpread::Material;
   const std::string lattice = m.string("lattice", "hexagonal", {"hexagonal", "square"});
   mechanics.lattice = lattice == "square" ? PerforationLattice::Square : PerforationLattice::Hexagonal;
   // A hexagonal lattice's stiffness is isotropic in its plane, so an axis given with it would be
@@ -457,6 +459,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
   j["mechanics"] = {{"bending", s.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                     {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
                     {"filter", s.mechanics.filter == FillFilter::Cell ? "cell" : "none"},
+                    {"loads", s.mechanics.loads == LoadSpread::Area ? "area" : "material"},
                     {"lattice", s.mechanics.lattice == PerforationLattice::Square ? "square" : "hexagonal"}};
   if (s.mechanics.lattice == PerforationLattice::Square) j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
   j["supports"] = json::array();
@@ -855,7 +858,8 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
       measure = match_totals->load_measures[i];
     }
     lc.forces += forces;
-    if (!surface.faces.empty()) lc.surface_loads.push_back(std::move(surface));
+    if (!surface.faces.empty() && scene.mechanics.loads == LoadSpread::Material)
+      lc.surface_loads.push_back(std::move(surface));
   }
   return lc;
 }

@@ -70,6 +70,7 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
   r["mechanics"] = {{"bending", mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                     {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
                     {"filter", mechanics.filter == FillFilter::Cell ? "cell" : "none"},
+                    {"loads", mechanics.loads == LoadSpread::Area ? "area" : "material"},
                     {"lattice", mechanics.lattice == PerforationLattice::Square ? "square" : "hexagonal"}};
   if (mechanics.lattice == PerforationLattice::Square)
     r["mechanics"]["lattice_axis"] = {mechanics.lattice_axis.x(), mechanics.lattice_axis.y(), mechanics.lattice_axis.z()};

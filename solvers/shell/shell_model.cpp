@@ -389,6 +389,10 @@ double ShellModel::surface_load_scale(const SurfaceLoad& load, const Eigen::Vect
     area += load.areas[i];
     material += alpha[load.faces[i]] * load.areas[i];
   }
+  // Fill ratios are positive (check_fill_ratios; the fill kernel clamps at 1e-4), so only a load
+  // case built by hand with empty or zero-α faces gets here.
+  if (!(material > 0))
+    throw SolveError(fmt::format("a load spread over {} faces finds no material there to carry it", load.faces.size()));
   return area / material;
 }
 

@@ -91,6 +91,15 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   expect_rejected(d, {"/mechanics/lattice_axis", "non-zero"});
   d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", {0, 2, 0}}};
   EXPECT_DOUBLE_EQ(parse_scene(d, "test").mechanics.lattice_axis[1], 1.0);
+  // Where the coarse model puts a load spread over the surface: on the material (default) or by
+  // area (the paper's); nothing else, and a scene written back keeps it.
+  d = minimal_scene();
+  EXPECT_EQ(parse_scene(d, "test").mechanics.loads, LoadSpread::Material);
+  d["mechanics"] = {{"loads", "area"}};
+  EXPECT_EQ(parse_scene(d, "test").mechanics.loads, LoadSpread::Area);
+  EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["mechanics"]["loads"], "area");
+  d["mechanics"] = {{"loads", "holes"}};
+  expect_rejected(d, {"/mechanics/loads", "material"});
   d = minimal_scene();
   d["pattern"] = {{"seed", 1.5}};
   expect_rejected(d, {"/pattern/seed", "integer"});

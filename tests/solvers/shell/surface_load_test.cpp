@@ -114,6 +114,17 @@ TEST(SurfaceLoads, AreCarriedByTheMaterialWithTheirTotals) {
   EXPECT_NEAR(expected, 225, 0.05 * 225);
 }
 
+// "mechanics.loads": "area" (the paper's model) leaves every load where the load case has it.
+TEST(SurfaceLoads, TheAreaRuleLeavesThemSpreadByArea) {
+  Scene scene = loaded_sheet(0.05);
+  scene.mechanics.loads = LoadSpread::Area;
+  const SurfaceMesh mesh = build_scene_meshes(scene).sim;
+  const LoadCase lc = resolve_load_case(scene, mesh);
+  EXPECT_TRUE(lc.surface_loads.empty());
+  const ShellModel model(mesh, Material{}, lc);
+  EXPECT_EQ((model.external_forces(random_fill_ratios(mesh.num_faces(), 3)) - lc.forces).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(SurfaceLoads, TheirDerivativeMatchesCentralDifferences) {
   const Scene scene = loaded_sheet(0.12);
   const SurfaceMesh mesh = build_scene_meshes(scene).sim;
@@ -154,6 +165,11 @@ TEST(SurfaceLoads, AMalformedOneIsRefused) {
   LoadCase bad_size = lc;
   bad_size.surface_loads[0].nodal.pop_back();
   EXPECT_THROW(ShellModel(mesh, Material{}, bad_size), InputError);
+  // No material under a load (fill ratios are positive in a run; a hand-made α may not be).
+  const ShellModel model(mesh, Material{}, lc);
+  Eigen::VectorXd alpha = Eigen::VectorXd::Ones(mesh.num_faces());
+  for (int t : lc.surface_loads[0].faces) alpha[t] = 0;
+  EXPECT_THROW(model.external_forces(alpha), SolveError);
 }
 
 }  // namespace
