@@ -178,7 +178,7 @@ CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, cons
     diameter[t] = 2 * ctx.unit() * sigma;
     spacing[t] = (1 + scene.pattern.s) * diameter[t];
   }
-  // Faces at a clamp keep their own α (cell_filter.h).
+  // Faces at a clamp keep their own α, and no other face's cell counts them (cell_filter.h).
   const LoadCase load_case = resolve_load_case(scene, sim);
   std::vector<bool> at_clamp(size_t(nf), false);
   for (int t = 0; t < nf; ++t)

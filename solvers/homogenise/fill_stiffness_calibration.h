@@ -56,7 +56,8 @@ MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, con
 /// d = 2 ℓ σ and spacing a = 2 (1 + s) ℓ σ at each face (ℓ the context's unit, s the collision
 /// safety factor, σ the sizing field at the closest point of the face's centroid on the base
 /// surface): the centre distance of two nominal stencils that touch with their safety margins.
-/// Faces with a clamped vertex (the scene's supports on `sim`) keep their own α (cell_filter.h).
+/// Faces with a clamped vertex (the scene's supports on `sim`) keep their own α and no other
+/// face's cell counts them (cell_filter.h).
 /// Built from the scene alone, not from the stencils, so it is fixed while they move.
 CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim);
 

@@ -68,9 +68,12 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
       while (!stack.empty()) {
         const int s = stack.back();
         stack.pop_back();
-        const double w = area[s] * (1 - (centroid.row(s).transpose() - ct).norm() / R);
-        weights.emplace_back(s, w);
-        total += w;
+        // A marked face's material is its own: no other face's cell counts it (the file comment).
+        if (s == t || !(keep_own && (*keep_own)[size_t(s)])) {
+          const double w = area[s] * (1 - (centroid.row(s).transpose() - ct).norm() / R);
+          weights.emplace_back(s, w);
+          total += w;
+        }
         for (int k = 0; k < 3; ++k) {
           const int e = face_edges(s, k);
           for (int side = 0; side < 2; ++side) {

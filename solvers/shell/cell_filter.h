@@ -28,15 +28,21 @@
 /// stencils (four or more across a stencil) b_t = 0 and the face keeps its own α_t: the mesh
 /// then resolves the ligaments itself.
 ///
-/// At a clamped support the filter stops (scene_cell_filter marks the faces with a clamped vertex
-/// to keep their own α). Homogenisation assumes each cell free to deform periodically; a clamp holds
-/// the cells next to it, and the material between the clamp and the first holes is solid, so the
-/// cone's average over the cells inside — softer — is the wrong stiffness exactly where a clamped
-/// plate or a cantilever's root stores most of its energy. Measured on the perforated-lattice suite
-/// (circles, hexagonal, α 0.5; coarse / conforming over the uncut plate's own coarse error, 1 d and
-/// 2 d): the plate clamped all round 1.19 / 1.19 → 1.09 / 1.12, the cantilever 1.026 / 1.013 →
-/// 1.010 / 1.006. Filtering across free or pinned borders is left as it is (not measured to help:
-/// at every border the cantilever went to 0.980 / 1.001).
+/// At a clamped support the filter stops, both ways (scene_cell_filter marks the faces with a
+/// clamped vertex): a marked face keeps its own α, and no other face's cone counts a marked face.
+/// Homogenisation assumes each cell free to deform periodically; a clamp holds the cells next to
+/// it, and the material between the clamp and the first holes is solid. So (1) the cone's average
+/// over the cells inside — softer — is the wrong stiffness for the faces at the clamp, exactly where
+/// a clamped plate or a cantilever's root stores most of its energy, and (2) the clamp's solid
+/// margin is no part of the lattice's cells further in: the faces at the clamp carry it already,
+/// and counted again in the cones of the faces next to them it made the first cells in from the
+/// clamp stiffer than the lattice is. Measured on the perforated-lattice suite (circles, hexagonal,
+/// α 0.5; coarse / conforming over the uncut plate's own coarse error, ½ d / 1 d / 2 d): the plate
+/// clamped all round 0.987 / 1.050 / 1.066 filtered through the clamps, 0.948 / 0.929 / 0.988 with
+/// (1) alone, 0.972 / 0.966 / 0.993 with both; the cantilever 0.993 / 1.022 / 1.010, 0.990 / 1.007 /
+/// 1.003, 0.993 / 1.013 / 1.007 (docs/DESIGN.md, "At a clamp the filter stops"). Filtering across
+/// free or pinned borders is left as it is (not measured to help: at every border the cantilever
+/// went to 0.980 / 1.001).
 ///
 /// B is a convex combination per row, so ᾱ ∈ [min α, max α] and B·1 = 1 (an uncut shell is
 /// unchanged). It does not depend on the stencils (a_t, d_t are the pattern's nominal spacing
@@ -59,7 +65,8 @@ class CellFilter {
   CellFilter() = default;
   /// The filter of the file comment on `mesh`, with the local stencil spacing `spacing` (#F, m,
   /// > 0) and stencil diameter `diameter` (#F, m, > 0) at each face; the faces marked in
-  /// `keep_own` (#F, optional) keep their own α (b_t = 0). Throws InputError for sizes that do not
+  /// `keep_own` (#F, optional) keep their own α (b_t = 0) and are left out of every other face's
+  /// average (a column of B with its diagonal entry only). Throws InputError for sizes that do not
   /// match or values that are not finite and positive.
   CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, const Eigen::VectorXd& diameter,
              const std::vector<bool>* keep_own = nullptr);

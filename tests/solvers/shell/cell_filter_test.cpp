@@ -70,24 +70,25 @@ TEST(CellFilter, BlendKeepsResolvedFacesAndAveragesLargeOnes) {
 }
 
 // Faces marked to keep their own α (scene_cell_filter marks those at a clamp) are rows of the
-// identity with blend 0; the other rows are those of the unmarked filter.
+// identity with blend 0, and columns with their diagonal entry only: no other face's average counts
+// them. The rows whose cones do not reach a marked face are those of the unmarked filter.
 TEST(CellFilter, MarkedFacesKeepTheirOwnFillRatio) {
   const SurfaceMesh mesh = test::equilateral_rectangle(1.0, 0.5, 20);
   const double h = 0.05;
+  const RowMatX3d& V = mesh.vertices();
+  const RowMatX3i& F = mesh.faces();
+  auto centroid_x = [&](int t) { return (V(F(t, 0), 0) + V(F(t, 1), 0) + V(F(t, 2), 0)) / 3; };
   std::vector<bool> marked(size_t(mesh.num_faces()), false);
-  for (int t = 0; t < mesh.num_faces(); ++t) {
-    const double x = (mesh.vertices().row(mesh.faces()(t, 0)) + mesh.vertices().row(mesh.faces()(t, 1)) +
-                      mesh.vertices().row(mesh.faces()(t, 2)))(0) / 3;
-    marked[size_t(t)] = x < 0.1;
-  }
-  const CellFilter plain(mesh, constant(mesh, 3 * h), constant(mesh, 2 * h));
-  const CellFilter kept(mesh, constant(mesh, 3 * h), constant(mesh, 2 * h), &marked);
+  for (int t = 0; t < mesh.num_faces(); ++t) marked[size_t(t)] = centroid_x(t) < 0.1;
+  const double spacing = 3 * h;
+  const CellFilter plain(mesh, constant(mesh, spacing), constant(mesh, 2 * h));
+  const CellFilter kept(mesh, constant(mesh, spacing), constant(mesh, 2 * h), &marked);
   std::mt19937 gen(5);
   std::uniform_real_distribution<double> u(0.01, 1.0);
   Eigen::VectorXd alpha(mesh.num_faces());
   for (int t = 0; t < mesh.num_faces(); ++t) alpha[t] = u(gen);
   const Eigen::VectorXd a = plain.apply(alpha), b = kept.apply(alpha);
-  int n_marked = 0, n_filtered = 0;
+  int n_marked = 0, n_filtered = 0, n_far = 0, n_near_changed = 0;
   for (int t = 0; t < mesh.num_faces(); ++t) {
     if (marked[size_t(t)]) {
       ++n_marked;
@@ -96,12 +97,37 @@ TEST(CellFilter, MarkedFacesKeepTheirOwnFillRatio) {
       EXPECT_EQ(kept.resolution()[t], plain.resolution()[t]);  // a mark is not a resolution
       EXPECT_EQ(kept.resolution()[t], 1 - plain.blend()[t]);
       n_filtered += a[t] != alpha[t];
-    } else {
+    } else if (centroid_x(t) > 0.1 + spacing + h) {  // its cone ends short of the marks
+      ++n_far;
       EXPECT_EQ(b[t], a[t]) << "face " << t;
+    } else {
+      n_near_changed += b[t] != a[t];
     }
   }
   EXPECT_GT(n_marked, 10);
+  EXPECT_GT(n_far, 100);
   EXPECT_EQ(n_filtered, n_marked);  // without the marks those faces were averaged
+  EXPECT_GT(n_near_changed, 10);    // and counted in their neighbours' averages
+  // Columns: a marked face appears in its own row only. Rows still sum to 1.
+  const auto& B = kept.matrix();
+  for (int t = 0; t < B.outerSize(); ++t)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, t); it; ++it) {
+      if (marked[size_t(it.col())]) EXPECT_EQ(it.row(), it.col()) << "face " << it.col() << " in row " << it.row();
+    }
+  EXPECT_NEAR((kept.apply(Eigen::VectorXd::Ones(mesh.num_faces())).array() - 1).abs().maxCoeff(), 0.0, 1e-14);
+  // A solid margin at the clamp (α = 1 there) and a uniform lattice inside (α = 0.4): the faces
+  // inside read the lattice's 0.4 exactly, where counting the margin raised those next to it.
+  Eigen::VectorXd margin(mesh.num_faces());
+  for (int t = 0; t < mesh.num_faces(); ++t) margin[t] = marked[size_t(t)] ? 1.0 : 0.4;
+  const Eigen::VectorXd inside = kept.apply(margin), raised = plain.apply(margin);
+  double worst = 0, highest = 0;
+  for (int t = 0; t < mesh.num_faces(); ++t) {
+    if (marked[size_t(t)]) continue;
+    worst = std::max(worst, std::abs(inside[t] - 0.4));
+    highest = std::max(highest, raised[t]);
+  }
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_GT(highest, 0.45);
   const std::vector<bool> wrong(3, false);
   EXPECT_THROW(CellFilter(mesh, constant(mesh, 3 * h), constant(mesh, 2 * h), &wrong), InputError);
 }
