@@ -480,8 +480,8 @@ static void check_ascii_stl_grammar(std::string_view text, const std::string& wh
     if (token != word) fail(fmt::format("'{}' where '{}' was expected", excerpt(token, 40), word));
   };
   // The three numbers on the keyword's own line, as assimp reads them: separated by spaces and
-  // tabs only, the line ending at a carriage return, form feed or NUL (refused before this is
-  // reached: check_stl_structure) as well as at '\n', each a
+  // tabs only, the line ending at a carriage return, form feed or NUL (the last two refused before
+  // this is reached: check_stl_structure) as well as at '\n', each a
   // plain number (is_plain_real). Past the line's end, or on anything else, assimp throws and
   // leaks what it built. What follows the numbers stays in the stream.
   auto numbers = [&](const std::string& of) {
@@ -579,12 +579,31 @@ void check_stl_structure(std::string_view content, const std::string& what) {
                                  "declaring {} facets would be {} bytes long, not {}",
                                  what, facets, 84 + 50 * facets, content.size()));
   }
-  // An ASCII STL is text. assimp ends a line at a NUL and reads on, but a NUL between a facet's
-  // vertices (fuzzer: "vertex 0 1 .0<NUL>      vertex 1 0 0") makes it throw and leak what it
-  // built; no exporter writes one, so it is refused wherever it is.
-  if (const std::size_t nul = content.find('\0'); nul != std::string_view::npos)
-    throw InputError(fmt::format("{}: cannot be parsed: ASCII STL: a NUL byte at offset {} (line {}); an ASCII STL is text",
-                                 what, nul, 1 + std::count(content.begin(), content.begin() + std::ptrdiff_t(nul), '\n')));
+  // An ASCII STL is text: spaces, tabs and line ends (LF, CR) between its words. assimp ends a line
+  // at a NUL or a form feed and reads on, but such a byte between a facet's vertices (fuzzer:
+  // "vertex 0 1 .0<NUL>      vertex 1 0 0", and "outer loop\n     <FF>vertex 0 0 0") makes it
+  // throw and leak what it built; no exporter writes one, so every C0 control byte other than tab,
+  // LF and CR is refused wherever it is, with the facet it is in.
+  const auto control = std::find_if(content.begin(), content.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u < 0x20 && c != '\t' && c != '\n' && c != '\r';
+  });
+  if (control != content.end()) {
+    const auto at = std::size_t(control - content.begin());
+    const std::string_view before = content.substr(0, at);
+    std::string where = "ASCII STL";
+    if (before.find("facet") != std::string_view::npos) {
+      std::size_t facet = 0;
+      for (std::size_t p = before.find("endfacet"); p != std::string_view::npos; p = before.find("endfacet", p + 8))
+        ++facet;
+      where = fmt::format("ASCII STL facet {}", facet);
+    }
+    const std::string byte = *control == '\0' ? std::string("a NUL byte")
+                                              : fmt::format("a control byte 0x{:02x}", static_cast<unsigned char>(*control));
+    throw InputError(fmt::format("{}: cannot be parsed: {}: {} at offset {} (line {}); an ASCII STL is text (spaces, tabs "
+                                 "and line ends between its words)",
+                                 what, where, byte, at, 1 + std::count(before.begin(), before.end(), '\n')));
+  }
   check_ascii_stl_grammar(content.substr(start), what);
 }
 
