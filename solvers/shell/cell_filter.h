@@ -26,7 +26,10 @@
 /// of a hexagonal lattice, weighted towards the centre); R_t ≥ h_t makes the average reach the
 /// neighbouring faces when triangles are larger than a cell. Where triangles resolve the
 /// stencils (four or more across a stencil) b_t = 0 and the face keeps its own α_t: the mesh
-/// then resolves the ligaments itself.
+/// then resolves the ligaments itself. That holds for circles (within 3.6% down to ⅛ d on the
+/// perforated-lattice suite) and not for stars, whose tips and inner corners are far narrower than
+/// d: hexagonal stars at α 0.67 read 22% too stiff at ¼ d, 16% at ½ d (docs/DESIGN.md, "Below one
+/// diameter the blend is the weak point, for stars").
 ///
 /// At a clamped support the filter stops, both ways (scene_cell_filter marks the faces with a
 /// clamped vertex): a marked face keeps its own α, and no other face's cone counts a marked face.
@@ -41,8 +44,9 @@
 /// clamped all round 0.987 / 1.050 / 1.066 filtered through the clamps, 0.948 / 0.929 / 0.988 with
 /// (1) alone, 0.972 / 0.966 / 0.993 with both; the cantilever 0.993 / 1.022 / 1.010, 0.990 / 1.007 /
 /// 1.003, 0.993 / 1.013 / 1.007 (docs/DESIGN.md, "At a clamp the filter stops"). Filtering across
-/// free or pinned borders is left as it is (not measured to help: at every border the cantilever
-/// went to 0.980 / 1.001).
+/// free or pinned borders is left as it is: stopped there as at clamps, own α alone moved the
+/// cantilever to 0.980 / 1.001, and both ways it helped the square lattice pulled at 45° by 4% and
+/// cost the bent hexagonal plates 1–2% (measured, not adopted).
 ///
 /// B is a convex combination per row, so ᾱ ∈ [min α, max α] and B·1 = 1 (an uncut shell is
 /// unchanged). It does not depend on the stencils (a_t, d_t are the pattern's nominal spacing
