@@ -22,6 +22,7 @@
 #include "host/pattern/stencils_json.h"
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/discretisation_estimate.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/objective/peak_energy_density.h"
 #include "solvers/report/run_report.h"
 
@@ -219,7 +220,8 @@ void run_verify(const VerifyOptions& opts) {
   timings.add("verify", sw.seconds());
   timings.add("total", total.seconds());
 
-  json report = solvers::base_report(loaded.scene, meshes, timings);
+  const MechanicsSettings used = solvers::scene_mechanics(loaded.scene, sf.stencils);
+  json report = solvers::base_report(loaded.scene, meshes, timings, &used);
   report["design"] = dir.string();
   report["stencils"] = sf.stencils.size();
   report["options"] = {{"edge_length", co.edge_length},

@@ -176,6 +176,7 @@ StencilShape finalize(const std::string& name, const std::string& kind, std::vec
   if (rmax > 1)
     for (Vec2& p : s.polygon) p /= rmax;
   s.area = signed_area(s.polygon);
+  for (size_t i = 0; i < n; ++i) s.perimeter += (s.polygon[(i + 1) % n] - s.polygon[i]).norm();
   if (point_in_polygon(s.polygon, Vec2::Zero())) {
     double d = 1;
     for (size_t i = 0; i < n; ++i)

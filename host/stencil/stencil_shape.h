@@ -26,6 +26,7 @@ struct StencilShape {
   std::vector<Vec2> polygon;   ///< counter-clockwise, simple; minimum enclosing circle = unit
                                ///< circle about the origin (every |p| ≤ 1 + 1e-15)
   double area = 0;             ///< polygon area in reference units (m² = area · s²)
+  double perimeter = 0;        ///< polygon perimeter in reference units (m = perimeter · s)
   double inner_radius = 0;     ///< radius of the largest origin-centred disk inside the polygon;
                                ///< 0 when the origin lies outside it (a crescent, a "C")
 };
@@ -45,6 +46,10 @@ struct StencilKindInfo {
   std::string description;
   std::vector<StencilParamInfo> params;
 };
+
+/// 4 A / P in reference units: the shape's hydraulic diameter, 2 (its bounding diameter) for a
+/// circle, less for shapes with narrow features (0.885 for the default five-pointed star).
+inline double stencil_hydraulic_diameter(const StencilShape& s) { return 4 * s.area / s.perimeter; }
 
 /// Every built-in kind with its parameters, in a fixed order.
 const std::vector<StencilKindInfo>& builtin_stencil_info();

@@ -273,7 +273,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.alpha = stencils.empty() ? own : filter.apply(own);
   // The conforming runs are at α = 1, where every fill rule is the solid.
   Eigen::VectorXd coarse_W_peak;
-  const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
+  const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, stencils);
   {
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     // W_peak's factors blend as the cell filter does (peak_energy_density.h).

@@ -143,7 +143,7 @@ using FillRatiosOnMesh = std::function<Eigen::VectorXd(const SurfaceMesh&)>;
 /// held continuously).
 ///
 /// Where the coarse triangles resolve the stencils, the fill ratio is not a porosity but the holes
-/// themselves (cell_filter.h: b_t = 0 where four or more triangles span a stencil), and a finer
+/// themselves (cell_filter.h: b_t = 0 where four or more triangles span a stencil's 4A/P), and a finer
 /// mesh resolves them better: with `own_on` (the stencils' own fill ratios on a mesh) and
 /// `resolution` (#F of `coarse`, CellFilter::resolution()), a refined face takes
 /// (1 − r) held + r own, r the resolution interpolated as above. Held alone, the built-in sheet's

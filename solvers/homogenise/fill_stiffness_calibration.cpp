@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <tuple>
+
+#include <fmt/format.h>
 
 #include "host/core/error.h"
 #include "host/pattern/pattern_context.h"
@@ -21,7 +24,8 @@ struct ShapeCurve {
   std::vector<double> membrane_anisotropy, bending_anisotropy;  ///< q (the square lattice's)
 };
 
-using CacheKey = std::tuple<std::vector<double>, double, double, double, int>;
+/// Polygon, ν, resolution, rim edges, lattice, and the fill ratios sampled.
+using CacheKey = std::tuple<std::vector<double>, double, double, double, int, std::vector<double>>;
 
 /// The ratios of one sample, in ShapeCurve's order: membrane, bending, then the split's four.
 using SampleRatios = std::array<double, 6>;
@@ -35,8 +39,8 @@ void push_ratios(ShapeCurve& c, const SampleRatios& r) {
   c.bending_shear.push_back(r[5]);
 }
 
-ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options) {
-  const std::vector<double>& grid = calibration_grid();
+ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options,
+                           const std::vector<double>& grid) {
   const double lowest = 1 - max_hole_fraction(shape, 0.1, options.lattice);
   // The cells, one per distinct fill ratio (the grid's points below the lowest one share it), one
   // after the other: two cells factorised at once are not reproducible to the last digits (see
@@ -58,7 +62,7 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
       c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
       continue;
     }
-    // Below the lowest fill ratio the lowest sample's values are held.
+    // Below the lowest fill ratio the lowest cell (K and q held; the ratios lowered after the loop).
     const CellStiffness& cell = cells[std::size_t(std::find(cut.begin(), cut.end(), std::max(alpha, lowest)) - cut.begin())];
     const double w = cell.window_fill_ratio;
     push_ratios(c, {cell.membrane_factor / w, cell.bending_factor / w, cell.membrane_bulk_factor / w,
@@ -67,6 +71,25 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
     c.bending_concentration.push_back(cell.bending_concentration);
     c.membrane_anisotropy.push_back(cell.membrane_anisotropy);
     c.bending_anisotropy.push_back(cell.bending_anisotropy);
+  }
+  // Below the lowest fill ratio no lattice of the shape exists and no cell says what it does; the
+  // stiffness ratios continue the secant of the lowest two samples down to the fixed grid's point
+  // below the lowest (an interval of the grid at most), and are held from there (at least half the
+  // lowest sample's ratio). Held flat from the lowest itself, the interpolating cubic would start
+  // with zero slope there and lag the cells above it: the default star read 5% soft at α 0.67
+  // (membrane bulk ratio) where its cells rise steeply.
+  const auto at = std::find(grid.begin(), grid.end(), lowest);
+  const std::vector<double>& fixed = calibration_grid();
+  const auto fixed_below = std::lower_bound(fixed.begin(), fixed.end(), lowest);
+  if (at != grid.end() && at != grid.begin() && fixed_below != fixed.begin()) {
+    const size_t kl = size_t(at - grid.begin());
+    const double floor_alpha = *(fixed_below - 1);
+    for (std::vector<double>* r : {&c.membrane, &c.bending, &c.membrane_bulk, &c.membrane_shear, &c.bending_bulk,
+                                   &c.bending_shear}) {
+      const double slope = std::max(0.0, ((*r)[kl + 1] - (*r)[kl]) / (grid[kl + 1] - grid[kl]));
+      for (size_t k = 0; k < kl; ++k)
+        (*r)[k] = std::max((*r)[kl] - slope * (lowest - std::max(grid[k], floor_alpha)), (*r)[kl] / 2);
+    }
   }
   return c;
 }
@@ -91,12 +114,48 @@ const std::vector<double>& calibration_grid() {
   return grid;
 }
 
+std::vector<double> calibration_samples(const StencilLibrary& shapes, CellLattice lattice,
+                                        const std::vector<double>& weights) {
+  std::vector<double> samples = calibration_grid();
+  for (const StencilShape& shape : shapes.shapes()) {
+    if (!weights.empty() && !(weights.at(size_t(shape.type)) > 0)) continue;
+    const double lowest = 1 - max_hole_fraction(shape, 0.1, lattice);
+    if (lowest <= samples.front() || lowest >= 1) continue;
+    const auto at = std::lower_bound(samples.begin(), samples.end(), lowest);
+    if (std::abs(*at - lowest) > 1e-9 && (at == samples.begin() || std::abs(*(at - 1) - lowest) > 1e-9))
+      samples.insert(at, lowest);
+  }
+  return samples;
+}
+
+std::vector<double> shape_weights(const StencilLibrary& shapes, std::span<const StencilParams> stencils) {
+  const size_t n = size_t(shapes.size());
+  if (stencils.empty()) return std::vector<double>(n, 1.0 / double(n));
+  std::vector<double> w(n, 0.0);
+  for (const StencilParams& s : stencils) {
+    if (s.type < 0 || size_t(s.type) >= n)
+      throw InputError(fmt::format("homogenised stiffness: a stencil of type {} in a library of {} shapes", s.type, n));
+    w[size_t(s.type)] += 1.0 / double(stencils.size());
+  }
+  return w;
+}
+
 FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const Material& material,
-                                            const CellOptions& options) {
+                                            const CellOptions& options, std::vector<double> weights) {
   if (shapes.size() < 1) throw InputError("homogenised stiffness: the design has no stencil shape");
+  if (weights.empty()) weights.assign(size_t(shapes.size()), 1.0 / shapes.size());
+  double total = 0;
+  for (const double w : weights) {
+    if (!(std::isfinite(w) && w >= 0)) throw InputError(fmt::format("homogenised stiffness: shape weight {}", w));
+    total += w;
+  }
+  if (weights.size() != size_t(shapes.size()) || !(total > 0))
+    throw InputError(fmt::format("homogenised stiffness: {} shape weights (sum {}) for {} shapes", weights.size(),
+                                 total, shapes.size()));
+  for (double& w : weights) w /= total;
   static std::mutex mutex;
   static std::map<CacheKey, ShapeCurve> cache;
-  const std::vector<double>& grid = calibration_grid();
+  const std::vector<double> grid = calibration_samples(shapes, options.lattice, weights);
   FillStiffnessCurve out;
   out.alpha = grid;
   for (std::vector<double>* r : {&out.membrane, &out.bending, &out.membrane_bulk, &out.membrane_shear,
@@ -111,9 +170,12 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     out.bending_anisotropy.assign(grid.size(), 0.0);
   }
   for (const StencilShape& shape : shapes.shapes()) {
+    const double w = weights[size_t(shape.type)];
+    if (w == 0) continue;
     std::vector<double> polygon;
     for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
-    const CacheKey key{polygon, material.poisson_ratio, options.resolution, options.rim_edges, int(options.lattice)};
+    const CacheKey key{polygon, material.poisson_ratio, options.resolution, options.rim_edges, int(options.lattice),
+                       grid};
     // One calibration at a time in the process, the cache looked up again under the lock: a
     // caller that waited finds the curve another computed (a sweep's concurrent variants calibrate
     // once), and no cell is factorised while another is. Two cell problems of 25k DOFs factorised
@@ -123,21 +185,21 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     std::unique_lock lock(mutex);
     auto it = cache.find(key);
     if (it == cache.end())
-      it = cache.emplace(key, calibrate_shape(shape, canonical_material(material.poisson_ratio), options)).first;
+      it = cache.emplace(key, calibrate_shape(shape, canonical_material(material.poisson_ratio), options, grid)).first;
     const ShapeCurve c = it->second;
     lock.unlock();
     for (size_t k = 0; k < grid.size(); ++k) {
-      out.membrane[k] += c.membrane[k] / shapes.size();
-      out.bending[k] += c.bending[k] / shapes.size();
-      out.membrane_bulk[k] += c.membrane_bulk[k] / shapes.size();
-      out.membrane_shear[k] += c.membrane_shear[k] / shapes.size();
-      out.bending_bulk[k] += c.bending_bulk[k] / shapes.size();
-      out.bending_shear[k] += c.bending_shear[k] / shapes.size();
+      out.membrane[k] += w * c.membrane[k];
+      out.bending[k] += w * c.bending[k];
+      out.membrane_bulk[k] += w * c.membrane_bulk[k];
+      out.membrane_shear[k] += w * c.membrane_shear[k];
+      out.bending_bulk[k] += w * c.bending_bulk[k];
+      out.bending_shear[k] += w * c.bending_shear[k];
       if (square) {
-        out.membrane_anisotropy[k] += c.membrane_anisotropy[k] / shapes.size();
-        out.bending_anisotropy[k] += c.bending_anisotropy[k] / shapes.size();
+        out.membrane_anisotropy[k] += w * c.membrane_anisotropy[k];
+        out.bending_anisotropy[k] += w * c.bending_anisotropy[k];
       }
-      // Peaks: the worst shape (a face's α does not say which shape cut it).
+      // Peaks: the worst shape the design uses (a face's α does not say which shape cut it).
       out.membrane_concentration[k] = std::max(out.membrane_concentration[k], c.membrane_concentration[k]);
       out.bending_concentration[k] = std::max(out.bending_concentration[k], c.bending_concentration[k]);
     }
@@ -150,19 +212,19 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
 }
 
 MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,
-                                         const Material& material) {
+                                         const Material& material, std::span<const StencilParams> stencils) {
   MechanicsSettings m = mechanics;
   if (m.stiffness == FillStiffness::Homogenised && m.stiffness_curve.empty()) {
     CellOptions options;
     options.lattice = m.lattice == PerforationLattice::Square ? CellLattice::Square : CellLattice::Hexagonal;
-    m.stiffness_curve = calibrate_fill_stiffness(shapes, material, options);
+    m.stiffness_curve = calibrate_fill_stiffness(shapes, material, options, shape_weights(shapes, stencils));
   }
   return m;
 }
 
-MechanicsSettings scene_mechanics(const Scene& scene) {
+MechanicsSettings scene_mechanics(const Scene& scene, std::span<const StencilParams> stencils) {
   if (scene.mechanics.stiffness == FillStiffness::Linear) return scene.mechanics;
-  return resolve_fill_stiffness(scene.mechanics, scene_stencil_library(scene), scene.material);
+  return resolve_fill_stiffness(scene.mechanics, scene_stencil_library(scene), scene.material, stencils);
 }
 
 CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim) {
@@ -171,12 +233,18 @@ CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, cons
   const RowMatX3d& V = sim.vertices();
   const RowMatX3i& F = sim.faces();
   const PatternSurface& surface = ctx.surface();
+  // The length the blend measures a triangle against: the narrowest shape's hydraulic diameter
+  // 4A/P (its bounding diameter for a circle; 0.44 of it for the default star), because the faces a
+  // stencil's outline cuts are a band of width ~h along P, a fraction ~4h/(4A/P) of its area.
+  double resolved = 1;
+  for (const StencilShape& shape : ctx.shapes().shapes())
+    resolved = std::min(resolved, stencil_hydraulic_diameter(shape) / 2);
   Eigen::VectorXd spacing(nf), diameter(nf);
   for (int t = 0; t < nf; ++t) {
     const Vec3 c = (V.row(F(t, 0)) + V.row(F(t, 1)) + V.row(F(t, 2))).transpose() / 3.0;
     const double sigma = surface.sizing_at(surface.bvh().closest_point(c).where);
-    diameter[t] = 2 * ctx.unit() * sigma;
-    spacing[t] = (1 + scene.pattern.s) * diameter[t];
+    diameter[t] = 2 * ctx.unit() * sigma * resolved;
+    spacing[t] = (1 + scene.pattern.s) * 2 * ctx.unit() * sigma;
   }
   // Faces at a clamp keep their own α, and no other face's cell counts them (cell_filter.h).
   const LoadCase load_case = resolve_load_case(scene, sim);

@@ -3,28 +3,46 @@
 /// ratios r_m(α), r_b(α) of fill_stiffness_map.h calibrated by cell homogenisation
 /// (cell_homogenisation.h) for the design's stencil shapes and material.
 ///
-/// Samples: α on a fixed grid (kCalibrationGrid) down to the lowest fill ratio a shape reaches
-/// in the lattice (1 − max_hole_fraction); below that a shape's ratio is held at its lowest sample
-/// (the map holds r constant below its first sample too). With several shapes the ratios are
-/// averaged with equal weights (a face's fill ratio does not say which shape cut it). Ratios
-/// depend on the shapes and on ν only (not on E, h, or the design's scale).
+/// Samples: α on a fixed grid (calibration_grid), and at the lowest fill ratio each shape reaches
+/// in the lattice (1 − max_hole_fraction) where that lies inside the grid (calibration_samples).
+/// Below its lowest no lattice of the shape exists: its ratios continue the secant of its lowest
+/// two samples for one grid interval, then are held (calibrate_shape; the map holds r constant
+/// below its first sample too). The lowest is a sample of its own so that the curve follows the
+/// cells from there: with the grid alone the lowest cell's ratios sat at the grid point below it
+/// (0.6 for the default star, whose lowest is 0.656 on the hexagonal lattice) and the cubic rose
+/// from there, 1.6–8.1% above the star's cells at α 0.67, and the perforated-lattice suite's stars
+/// at α 0.67 read 4% too stiff at one and two diameters (0.959 / 0.973; 0.991 / 1.001 now). Held
+/// flat from the lowest instead, the cubic would start with zero slope there and lag the cells by
+/// 2–6%. With several shapes the ratios are
+/// averaged with the shapes' shares of the design's stencils by count (shape_weights; a face's
+/// fill ratio does not say which shape cut it, the design's mix does on average). Equal weights
+/// made the chair (396 stars, 28 circles) 3.8% too stiff: its circles' ratios, higher than the
+/// stars' at every α, counted as much as its stars'; by count that design's stencils read 0.996
+/// of its converged conforming compliance (0.9998 with the stars' curve alone). Counts, not areas: they do not change while
+/// the stencils move and grow, so the rule stays fixed within a minimisation and its gradient
+/// exact; a design of a few large holes among many small ones of another shape is weighted
+/// towards the small ones. Ratios depend on the shapes and on ν only (not on E, h, or the design's
+/// scale).
 ///
 /// Concentration factors K (cell_homogenisation.h) ride on the same cell solves: per sample, the
-/// largest over the shapes (a face's fill ratio does not say which shape cut it); below a shape's
+/// largest over the shapes of positive weight (a face's fill ratio does not say which shape cut
+/// it); below a shape's
 /// lowest fill ratio held like the ratios; the α = 1 sample holds the last cut sample's K (the dilute
 /// side held constant; an uncut face's K = 1 is the consumer's rule, peak_energy_density.h).
 ///
 /// Cost: one cell of 10³–2·10⁴ triangles cut, remeshed and factorised per shape and sample (0.1–1 s
 /// each, serial; bench/homogenise_benchmark.cpp); results are kept in memory for the process, keyed
-/// by shape polygon, ν and the cell options, so a sweep or a benchmark pays once. One calibration
+/// by shape polygon, ν, the cell options and the samples, so a sweep or a benchmark pays once. One calibration
 /// runs at a time in a process (a lock around the computation and the cache): concurrent callers
 /// wait for the curve instead of computing it again, and two cells are never factorised at once
 /// (that was not reproducible to the last digits, fill_stiffness_calibration.cpp).
+#include <span>
 #include <vector>
 
 #include "host/scene/load_case.h"
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
+#include "host/stencil/frame.h"
 #include "host/stencil/stencil_shape.h"
 #include "solvers/homogenise/cell_homogenisation.h"
 #include "solvers/shell/cell_filter.h"
@@ -35,27 +53,43 @@ class PatternContext;
 
 namespace cutwork::solvers {
 
-/// The fill ratios sampled (the last, α = 1, is the solid: ratios 1).
+/// The fixed fill ratios sampled (the last, α = 1, is the solid: ratios 1).
 const std::vector<double>& calibration_grid();
 
-/// Calibrates the curve for `shapes` (≥ 1) and `material`'s ν. Thread-safe; memoised.
+/// The fill ratios a curve of `shapes` is sampled at: calibration_grid() and each shape's lowest
+/// fill ratio on `lattice` (1 − max_hole_fraction(shape, 0.1, lattice)) where it lies between the
+/// grid's first point and 1; strictly increasing, the last 1.
+/// Shapes of weight 0 (`weights` indexed by type; empty: every shape) are left out.
+std::vector<double> calibration_samples(const StencilLibrary& shapes, CellLattice lattice,
+                                        const std::vector<double>& weights = {});
+
+/// Each shape's share of `stencils` by count (#shapes, indexed by type, summing to 1); equal
+/// shares where `stencils` is empty. Throws InputError for a stencil whose type is not a shape.
+std::vector<double> shape_weights(const StencilLibrary& shapes, std::span<const StencilParams> stencils);
+
+/// Calibrates the curve for `shapes` (≥ 1) and `material`'s ν, the shapes' ratios averaged with
+/// `weights` (#shapes, ≥ 0, normalised here; empty: equal; a shape of weight 0 is not calibrated).
+/// Thread-safe; memoised per shape.
 FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const Material& material,
-                                            const CellOptions& options = {});
+                                            const CellOptions& options = {}, std::vector<double> weights = {});
 
 /// The scene's mechanics, calibrated for its stencil shapes and material (what every shell model of
-/// the scene is built with).
-MechanicsSettings scene_mechanics(const Scene& scene);
+/// the scene is built with), the shapes weighted by their share of `stencils` (shape_weights;
+/// equal without stencils, where α = 1 and the weights do not matter).
+MechanicsSettings scene_mechanics(const Scene& scene, std::span<const StencilParams> stencils = {});
 
 /// `mechanics` with its stiffness_curve filled in when its rule is Homogenised (unchanged when
-/// Linear or already filled).
+/// Linear or already filled), the shapes weighted by their share of `stencils` (shape_weights).
 MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,
-                                         const Material& material);
+                                         const Material& material, std::span<const StencilParams> stencils = {});
 
 /// The fill-ratio filter of the scene's mechanics (mechanics.filter) on `sim`: the identity for
-/// "none"; for "cell", cell_filter.h's filter with the pattern's nominal stencil diameter
-/// d = 2 ℓ σ and spacing a = 2 (1 + s) ℓ σ at each face (ℓ the context's unit, s the collision
-/// safety factor, σ the sizing field at the closest point of the face's centroid on the base
-/// surface): the centre distance of two nominal stencils that touch with their safety margins.
+/// "none"; for "cell", cell_filter.h's filter with spacing a = 2 (1 + s) ℓ σ at each face (ℓ the
+/// context's unit, s the collision safety factor, σ the sizing field at the closest point of the
+/// face's centroid on the base surface: the centre distance of two nominal stencils that touch
+/// with their safety margins) and the blend measured against the hydraulic diameter
+/// d = 2 ℓ σ · min over the library's shapes of (4A/P)/2 (4A/P in reference units, where the
+/// bounding diameter is 2): the narrowest shape decides when the triangles resolve the pattern.
 /// Faces with a clamped vertex (the scene's supports on `sim`) keep their own α and no other
 /// face's cell counts them (cell_filter.h).
 /// Built from the scene alone, not from the stencils, so it is fixed while they move.

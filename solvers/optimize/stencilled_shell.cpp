@@ -10,8 +10,9 @@ namespace cutwork::solvers {
 StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_bvh, const Material& material,
                                  const MechanicsSettings& mechanics, const LoadCase& load_case, const StencilLibrary& shapes,
                                  const TangentField& field, FillRatioOptions fill_options, NewtonSettings newton)
-    : m_sim(&sim), m_sim_bvh(sim) {
-  // A homogenised fill stiffness is calibrated for these shapes (memoised: once per process).
+    : m_sim(&sim), m_sim_bvh(sim), m_mechanics(mechanics), m_shapes(&shapes), m_material(material) {
+  // A homogenised fill stiffness is calibrated for these shapes (memoised: once per process),
+  // equally weighted until stencils say otherwise (set_stencils).
   m_model = std::make_unique<ShellModel>(sim, material, load_case, resolve_fill_stiffness(mechanics, shapes, material));
   m_solver = std::make_unique<EquilibriumSolver>(*m_model, std::move(newton));
   m_fill = std::make_unique<FillRatioEvaluator>(surface_bvh, m_sim_bvh, shapes, &field, fill_options);
@@ -35,7 +36,17 @@ const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilPara
     return m_alpha;
   }
   Stopwatch sw;
-  m_fill->evaluate(stencils);
+  m_fill->evaluate(stencils);  // validates them
+  // The curve weighted by these stencils' shapes (only a calibrated curve of several shapes).
+  if (m_mechanics.stiffness == FillStiffness::Homogenised && m_mechanics.stiffness_curve.empty() &&
+      m_shapes->size() > 1) {
+    std::vector<double> weights = shape_weights(*m_shapes, stencils);
+    if (weights != m_weights) {
+      m_model->set_stiffness_curve(
+          resolve_fill_stiffness(m_mechanics, *m_shapes, m_material, stencils).stiffness_curve);
+      m_weights = std::move(weights);
+    }
+  }
   if (m_filter.identity()) {
     m_alpha = m_fill->alpha();
   } else {

@@ -51,7 +51,11 @@ class StencilledShell {
   const CellFilter& cell_filter() const { return m_filter; }
 
   /// α for `stencils`, with dα/dp when fill_options.derivatives (the default); an empty span
-  /// gives the uncut shell (α = 1). Throws InputError for invalid stencils.
+  /// gives the uncut shell (α = 1). Throws InputError for invalid stencils. Under the homogenised
+  /// rule with a calibrated curve and several shapes, the curve follows the shapes' shares of
+  /// `stencils` (fill_stiffness_calibration.h's shape_weights): recalibrated (from the memoised
+  /// cells) when the shares change, which a minimisation's steps never do (they move and scale
+  /// stencils, they do not change their types).
   const Eigen::VectorXd& set_stencils(std::span<const StencilParams> stencils);
   /// The fill ratios the shell sees after the last set_stencils (#F): the filtered B α, which
   /// is the kernels' α without a filter. And its stencils.
@@ -109,6 +113,12 @@ class StencilledShell {
   std::unique_ptr<ShellModel> m_model;
   std::unique_ptr<EquilibriumSolver> m_solver;
   std::unique_ptr<FillRatioEvaluator> m_fill;
+  // The homogenised curve's calibration: the scene's mechanics (before calibration), the shapes,
+  // the material, and the weights the model's curve has (empty: not reweighted).
+  MechanicsSettings m_mechanics;
+  const StencilLibrary* m_shapes;
+  Material m_material;
+  std::vector<double> m_weights;
   CellFilter m_filter;
   Eigen::VectorXd m_alpha;       ///< B α (what the shell sees)
   Eigen::VectorXd m_face_alpha;  ///< α (with a filter; empty without)

@@ -118,7 +118,8 @@ json design_state_json(const DesignState& d) {
 
 json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternContext& ctx, const DesignResult& r,
                    const CutSurface& cut, const DesignRunInfo& info) {
-  json report = base_report(scene, meshes, info.timings);
+  const MechanicsSettings used = scene_mechanics(scene, layout_params(r.layout));
+  json report = base_report(scene, meshes, info.timings, &used);
   if (!info.device.is_null()) report["device"] = info.device;
   report["stencils"] = stencils_json(ctx, r);
   report["phases"] = phases_json(scene, r);
@@ -178,7 +179,8 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   json discretisation = nullptr;
   if (info.discretisation_estimate) {
     sw.restart();
-    const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
+    const MechanicsSettings mechanics =
+        resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, final_params);
     SimulationMeshRefinements refined(scene, meshes);
     const double h = simulation_edge_length(scene, meshes);
     const DiscretisationEstimate uncut = estimate_discretisation(
@@ -208,7 +210,8 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   const bool peak = result.final_design.summary.peak_energy_density.size() == meshes.sim.num_faces();
   if (peak) {
     sw.restart();
-    const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material);
+    const MechanicsSettings mechanics =
+        resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, final_params);
     const std::vector<double>& samples = mechanics.stiffness_curve.alpha;
     ligaments = summarize_ligament_peaks(out.cut, meshes.base, meshes.sim, result.final_design.alpha,
                                          result.final_design.summary.peak_energy_density,
@@ -269,8 +272,8 @@ std::vector<std::string> design_output_names(const DesignOutputs& o) {
 }
 
 RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
-                                   const Eigen::VectorXd& alpha) {
-  const ShellModel model(meshes.sim, scene.material, load_case, scene_mechanics(scene));
+                                   const Eigen::VectorXd& alpha, std::span<const StencilParams> stencils) {
+  const ShellModel model(meshes.sim, scene.material, load_case, scene_mechanics(scene, stencils));
   EquilibriumSolver solver(model);
   solver.solve(alpha);
   return solver.displacements();
@@ -283,9 +286,10 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
   in.base = &meshes.base;
   in.sim = &meshes.sim;
   in.sim_fields.face = design_face_fields(r);
-  in.sim_fields.vertex = {{"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha)}};
-  if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
   const std::vector<StencilParams> params = layout_params(r.layout);
+  in.sim_fields.vertex = {
+      {"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha, params)}};
+  if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
   in.outlines = stencil_outlines(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), params);
   in.outline_types.resize(Eigen::Index(params.size()));
   for (size_t i = 0; i < params.size(); ++i) in.outline_types[Eigen::Index(i)] = params[i].type;

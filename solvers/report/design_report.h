@@ -58,9 +58,10 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
                             const DesignResult& result, DesignRunInfo info, const Stopwatch& since_start);
 
 /// Per-vertex displacement (#V×3, m) of the simulation mesh in equilibrium with fill ratios `alpha`
-/// (a fresh Newton solve with the scene's material and mechanics; the pipeline keeps summaries).
+/// (a fresh Newton solve with the scene's material and mechanics, the curve weighted by `stencils`;
+/// the pipeline keeps summaries).
 RowMatX3d equilibrium_displacement(const Scene& scene, const SceneMeshes& meshes, const LoadCase& load_case,
-                                   const Eigen::VectorXd& alpha);
+                                   const Eigen::VectorXd& alpha, std::span<const StencilParams> stencils = {});
 
 /// The inputs of a design's files: final fields (α, W, W of the pattern design, displacement), the
 /// stencils' outlines, the cut surface, β, the thickness and the printable minimum.

@@ -56,7 +56,8 @@ nlohmann::json timings_json(const Timings& timings) {
   return t;
 }
 
-nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings) {
+nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings,
+                           const MechanicsSettings* used) {
   nlohmann::json r;
   r["scene"] = scene.name;
   r["scene_source"] = scene_origin(scene);
@@ -66,7 +67,7 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                {"sim_triangles", meshes.sim.num_faces()},
                {"sim_is_base", meshes.sim_is_base},
                {"map_max_distance", meshes.map.max_distance}};
-  const MechanicsSettings mechanics = scene_mechanics(scene);
+  const MechanicsSettings mechanics = used ? *used : scene_mechanics(scene);
   r["mechanics"] = {{"bending", mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                     {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
                     {"filter", mechanics.filter == FillFilter::Cell ? "cell" : "none"},

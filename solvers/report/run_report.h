@@ -22,7 +22,10 @@ nlohmann::json timings_json(const Timings& timings);
 
 /// scene, scene_source, mesh {vertices, triangles, sim_vertices, sim_triangles, sim_is_base,
 /// map_max_distance}, timings.
-nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings);
+/// `mechanics`: the rule the run used (its calibrated curve goes into the report); null: the
+/// scene's, calibrated with equal shape weights (scene_mechanics).
+nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const Timings& timings,
+                           const MechanicsSettings* mechanics = nullptr);
 
 /// The ligament peak estimate (solvers/objective/ligament_peak.h) as report.json's
 /// `structure.ligaments` (design) and verify's `peak.ligaments`: the rule, how many ligaments were

@@ -11,7 +11,7 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
                                const EquilibriumSolver& solver, const EquilibriumStats& stats,
                                const EquilibriumSummary& summary, const FillRatioSource& fill,
                                const Timings& timings, const nlohmann::json& device) {
-  nlohmann::json report = base_report(scene, meshes, timings);
+  nlohmann::json report = base_report(scene, meshes, timings, &model.mechanics());
   if (!device.is_null()) report["device"] = device;
   report["equilibrium"] = {
       {"max_displacement", summary.max_displacement},

@@ -19,17 +19,25 @@
 ///     b_t = smoothstep((h_t/d_t − ¼) / ¾)   (0 for h_t ≤ d_t/4, 1 for h_t ≥ d_t),
 ///
 /// c_t the centroid and A_t the area of face t, h_t = √(4 A_t/√3) its equilateral edge length,
-/// a_t the local stencil spacing (centre to centre) and d_t the local stencil diameter at the
-/// face. The sum runs over the faces reached from t across edges whose centroids lie within R_t
+/// a_t the local stencil spacing (centre to centre) and d_t the local stencil's hydraulic
+/// diameter 4A/P at the face (A its area, P its perimeter: its diameter for a circle, 0.44 of its
+/// bounding diameter for the default five-pointed star; scene_cell_filter takes the library's
+/// narrowest shape). The sum runs over the faces reached from t across edges whose centroids lie within R_t
 /// (the neighbourhood is connected on the surface: two sheets close in space do not mix). The
 /// cone of radius one spacing averages over about one cell (its support holds π a² ≈ 3.6 cells
 /// of a hexagonal lattice, weighted towards the centre); R_t ≥ h_t makes the average reach the
 /// neighbouring faces when triangles are larger than a cell. Where triangles resolve the
-/// stencils (four or more across a stencil) b_t = 0 and the face keeps its own α_t: the mesh
-/// then resolves the ligaments itself. That holds for circles (within 3.6% down to ⅛ d on the
-/// perforated-lattice suite) and not for stars, whose tips and inner corners are far narrower than
-/// d: hexagonal stars at α 0.67 read 22% too stiff at ¼ d, 16% at ½ d (docs/DESIGN.md, "Below one
-/// diameter the blend is the weak point, for stars").
+/// stencils (four or more across d_t) b_t = 0 and the face keeps its own α_t: the mesh then
+/// resolves the holes and the ligaments itself. Why 4A/P and not the bounding diameter: the faces
+/// a stencil's outline cuts, whose own α is neither hole nor material, lie in a band about h wide
+/// along its perimeter, a fraction ~4h/(4A/P) of its area; a star has the perimeter of a much
+/// smaller circle. Measured (perforated-lattice suite, hexagonal stars at α 0.67, cell-filtered
+/// at ¼ / ½ / 0.8 bounding diameters): 0.854 / 0.981 / 0.964 against the bounding diameter's
+/// 0.776 / 0.841 / 0.947 (0.877 / 1.006 / 0.995 with the star's calibration sampled at its lowest
+/// α too, fill_stiffness_calibration.h); circles are unchanged (4A/P of the 64-gon is 0.9988 of
+/// its diameter). Below ¼ bounding diameter the star's triangles are still too stiff (0.877 at ¼,
+/// the per-face rule 0.843 at ⅛): a face's own α needs triangles narrower than the ligaments between the
+/// tips, which depend on the layout, not on the shape (docs/DESIGN.md, "Below one diameter").
 ///
 /// At a clamped support the filter stops, both ways (scene_cell_filter marks the faces with a
 /// clamped vertex): a marked face keeps its own α, and no other face's cone counts a marked face.
@@ -68,7 +76,8 @@ class CellFilter {
   /// The identity (no filtering).
   CellFilter() = default;
   /// The filter of the file comment on `mesh`, with the local stencil spacing `spacing` (#F, m,
-  /// > 0) and stencil diameter `diameter` (#F, m, > 0) at each face; the faces marked in
+  /// > 0) and the stencil's hydraulic diameter `diameter` (#F, m, > 0: d_t of the file comment)
+  /// at each face; the faces marked in
   /// `keep_own` (#F, optional) keep their own α (b_t = 0) and are left out of every other face's
   /// average (a column of B with its diagonal entry only). Throws InputError for sizes that do not
   /// match or values that are not finite and positive.
@@ -85,7 +94,7 @@ class CellFilter {
   /// b_t (#F; empty for the identity): 0 where the face keeps its own α, 1 where it takes the cell's.
   const Eigen::VectorXd& blend() const { return m_blend; }
   /// 1 − smoothstep((h_t/d_t − ¼)/¾) (#F; empty for the identity): how far the face's triangle
-  /// resolves the stencils, 1 where four or more span one, 0 where it is one across or larger —
+  /// resolves the stencils, 1 where four or more span d_t, 0 where it is d_t across or larger —
   /// b_t's complement before a clamp's mark (a face at a clamp keeps its own α whatever its size).
   const Eigen::VectorXd& resolution() const { return m_resolution; }
   /// Mean number of faces per row (the filter's width), 1 for the identity.

@@ -172,6 +172,14 @@ BlockAssembly assembly_pattern(const ShellModel& model) {
 
 }  // namespace
 
+void ShellModel::set_stiffness_curve(FillStiffnessCurve curve) {
+  MechanicsSettings m = m_mechanics;
+  m.stiffness_curve = std::move(curve);
+  FillStiffnessMap map(m);
+  m_mechanics = std::move(m);
+  m_fill_stiffness = std::move(map);
+}
+
 ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const LoadCase& load_case,
                        const MechanicsSettings& mechanics)
     : m_mesh(std::make_shared<SurfaceMesh>(mesh)),

@@ -119,6 +119,10 @@ class ShellModel {
   const MechanicsSettings& mechanics() const { return m_mechanics; }
   /// How membrane and bending stiffness follow a face's fill ratio (mechanics.stiffness).
   const FillStiffnessMap& fill_stiffness() const { return m_fill_stiffness; }
+  /// Replaces the homogenised rule's calibrated curve (StencilledShell: the shapes reweighted by a
+  /// new set of stencils); the next assembly uses it. Throws InputError for a curve
+  /// FillStiffnessMap refuses, leaving the model unchanged.
+  void set_stiffness_curve(FillStiffnessCurve curve);
   /// Ĉ of shape_operator_energy.h for the material's ν, or its bulk or shear part:
   /// ((1 + ν)/2) [1 1 0; 1 1 0; 0 0 0] and (1 − ν) [½ −½ 0; −½ ½ 0; 0 0 2], which add up to Ĉ.
   const Eigen::Matrix3d& bending_constitutive(FillPart part = FillPart::Whole) const {

@@ -92,6 +92,18 @@ TEST(StencilShape, KnownAreasAndInnerRadii) {
   const StencilShape star = make_builtin_stencil("star", {{"points", 6}, {"inner_ratio", 0.4}}, "s");
   EXPECT_EQ(star.polygon.size(), 12u);
   EXPECT_NEAR(star.area, 12 * 0.5 * 0.4 * std::sin(pi / 6), 1e-13);
+  // Perimeters, and the hydraulic diameter 4A/P the cell filter measures triangles against: a
+  // regular n-gon's is 2 cos(π/n) (its bounding diameter, 2, in the limit); a star's edge joins a
+  // point (radius 1) to an inner corner (radius r) π/n away.
+  EXPECT_NEAR(c.perimeter, 2 * 256 * std::sin(pi / 256), 1e-13);
+  EXPECT_NEAR(stencil_hydraulic_diameter(c), 2 * std::cos(pi / 256), 1e-13);
+  EXPECT_NEAR(sq.perimeter, 4 * std::sqrt(2.0), 1e-14);
+  EXPECT_NEAR(stencil_hydraulic_diameter(sq), std::sqrt(2.0), 1e-14);
+  EXPECT_NEAR(star.perimeter, 12 * std::sqrt(1 + 0.16 - 0.8 * std::cos(pi / 6)), 1e-13);
+  const StencilShape star5 = make_builtin_stencil("star", {}, "s5");
+  EXPECT_NEAR(stencil_hydraulic_diameter(star5),
+              4 * 5 * 0.5 * std::sin(pi / 5) / (10 * std::sqrt(1.25 - std::cos(pi / 5))), 1e-13);
+  EXPECT_LT(stencil_hydraulic_diameter(star5), 0.45 * 2);
   // A "C" has the origin outside: no inscribed disk.
   std::vector<Vec2> cee;
   for (int i = 0; i <= 20; ++i) cee.emplace_back(std::cos(0.5 + 5.28 * i / 20), std::sin(0.5 + 5.28 * i / 20));

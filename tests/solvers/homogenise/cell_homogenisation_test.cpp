@@ -3,6 +3,7 @@
 // a hexagonal lattice of circles is isotropic in the plane; perforated stiffness lies below the
 // Voigt bound α and grows with α; the factors converge as the cell's mesh is refined.
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 #include <numbers>
 #include <string>
@@ -15,6 +16,7 @@
 #include "host/core/error.h"
 #include "solvers/homogenise/cell_homogenisation.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
+#include "solvers/shell/fill_stiffness_map.h"
 #include "solvers/shell/shell_material.h"
 #include "tests/solvers/support/shell_fixtures.h"
 
@@ -228,6 +230,76 @@ TEST(CellHomogenisation, EveryBuiltInShapeHomogenisesAtTheCalibrationFillRatios)
       EXPECT_GT(c.bending_factor, last_b);
       last_m = c.membrane_factor;
       last_b = c.bending_factor;
+    }
+  }
+}
+
+// A shape that cannot reach the grid's lower fill ratios (the default star: its bounding circles
+// come within a tenth of a spacing at α 0.656 on the hexagonal lattice) has no cell below that,
+// and its curve must follow its cells from there up: the lowest is a sample of its own
+// (calibration_samples), and below it the ratios continue the secant of the lowest two samples to
+// the grid point under it (then held), so the cubic leaves the lowest at the cells' slope. Checked
+// against cells solved between the lowest and the next sample (α 0.67 and 0.70): within 2% on each
+// of the split's four ratios, and closer than the grid alone — the lowest cell's ratios held at
+// the grid point below it, the curve rising from there, as before (up to 8% too stiff at 0.67; the
+// output lines) — and closer than holding them flat from the lowest (the cubic then starts flat
+// and lags: 5% soft). A circle's library, whose lowest (0.27) is below the grid, is sampled on the
+// grid alone.
+TEST(FillStiffnessCalibration, AShapesCurveFollowsItsCellsFromItsLowestFillRatio) {
+  const Material m = test::pa12();
+  StencilLibrary circles;
+  circles.add(circle());
+  EXPECT_EQ(calibration_samples(circles, CellLattice::Hexagonal), calibration_grid());
+  StencilLibrary stars;
+  stars.add(make_builtin_stencil("star", {}, "star"));
+  const double lowest = 1 - max_hole_fraction(stars[0]);
+  ASSERT_GT(lowest, 0.6);
+  ASSERT_LT(lowest, 0.75);
+  const std::vector<double> samples = calibration_samples(stars, CellLattice::Hexagonal);
+  ASSERT_EQ(samples.size(), calibration_grid().size() + 1);
+  EXPECT_EQ(std::count(samples.begin(), samples.end(), lowest), 1);
+  EXPECT_TRUE(std::is_sorted(samples.begin(), samples.end()));
+  const size_t k = size_t(std::find(samples.begin(), samples.end(), lowest) - samples.begin());
+  ASSERT_EQ(samples[k - 1], 0.6);
+
+  const FillStiffnessCurve curve = calibrate_fill_stiffness(stars, m);
+  ASSERT_EQ(curve.alpha, samples);
+  const CellStiffness cell_low = homogenise_cell(stars[0], m, lowest);
+  std::vector<CellStiffness> cells;
+  for (const double a : {0.67, 0.70}) cells.push_back(homogenise_cell(stars[0], m, a));
+  using Factor = double CellStiffness::*;
+  const std::vector<std::tuple<const char*, const std::vector<double>*, Factor>> ratios = {
+      {"membrane bulk", &curve.membrane_bulk, &CellStiffness::membrane_bulk_factor},
+      {"membrane shear", &curve.membrane_shear, &CellStiffness::membrane_shear_factor},
+      {"bending bulk", &curve.bending_bulk, &CellStiffness::bending_bulk_factor},
+      {"bending shear", &curve.bending_shear, &CellStiffness::bending_shear_factor}};
+  for (const auto& [what, r, factor] : ratios) {
+    SCOPED_TRACE(what);
+    const MonotoneCurve now(curve.alpha, *r);
+    const double r_low = cell_low.*factor / cell_low.window_fill_ratio;
+    // (The calibration solves its cells with a canonical material of the same ν: round-off apart.)
+    EXPECT_NEAR((*r)[k], r_low, 1e-6) << "the lowest cell's ratio at the lowest";
+    // Below: the secant continued to 0.6, held from there, softer than the lowest cell.
+    const double slope = ((*r)[k + 1] - (*r)[k]) / (samples[k + 1] - samples[k]);
+    EXPECT_NEAR(now(0.6), std::max((*r)[k] - slope * (lowest - 0.6), (*r)[k] / 2), 1e-12);
+    EXPECT_NEAR(now(0.45), now(0.6), 1e-14);
+    EXPECT_LT(now(0.63), r_low);
+    // The grid alone (the lowest sample left out, its ratio held at the grid point below, as
+    // before), and the ratio held flat from the lowest.
+    std::vector<double> x = curve.alpha, y = *r, flat = *r;
+    for (size_t j = 0; j < k; ++j) flat[j] = r_low;
+    x.erase(x.begin() + std::ptrdiff_t(k));
+    y.erase(y.begin() + std::ptrdiff_t(k));
+    for (size_t j = 0; j < k; ++j) y[j] = r_low;
+    const MonotoneCurve grid_alone(x, y), held_flat(curve.alpha, flat);
+    for (size_t c = 0; c < cells.size(); ++c) {
+      const double a = cells[c].fill_ratio, exact = cells[c].*factor / cells[c].window_fill_ratio;
+      std::printf("%s at α %.2f: cell %.4f, curve %.4f (%+.1f%%), the grid alone %+.1f%%, held flat %+.1f%%\n", what,
+                  a, exact, now(a), 100 * (now(a) / exact - 1), 100 * (grid_alone(a) / exact - 1),
+                  100 * (held_flat(a) / exact - 1));
+      EXPECT_NEAR(now(a) / exact, 1.0, 0.02) << a;
+      EXPECT_LT(std::abs(now(a) - exact), std::abs(grid_alone(a) - exact)) << a;
+      EXPECT_LT(std::abs(now(a) - exact), std::abs(held_flat(a) - exact)) << a;
     }
   }
 }
