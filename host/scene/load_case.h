@@ -54,6 +54,10 @@ struct FillStiffnessCurve {
   /// the anisotropic part adds ±q G (solvers/shell/fill_stiffness_map.h). On the square lattice of
   /// circles at α = 0.5: membrane q = +0.57 (straight ligaments along the axes), bending −0.07.
   std::vector<double> membrane_anisotropy, bending_anisotropy;
+  /// The weight each of the library's shapes (by type) had in the average the ratios are
+  /// (solvers/homogenise/fill_stiffness_calibration.h: its share of the design's stencils by
+  /// count; equal without stencils), summing to 1.
+  std::vector<double> shape_weights;
   bool empty() const { return alpha.empty(); }
   bool split() const { return !membrane_bulk.empty(); }
   bool anisotropic() const { return !membrane_anisotropy.empty(); }

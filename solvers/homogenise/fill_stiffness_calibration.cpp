@@ -158,6 +158,7 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   const std::vector<double> grid = calibration_samples(shapes, options.lattice, weights);
   FillStiffnessCurve out;
   out.alpha = grid;
+  out.shape_weights = weights;
   for (std::vector<double>* r : {&out.membrane, &out.bending, &out.membrane_bulk, &out.membrane_shear,
                                   &out.bending_bulk, &out.bending_shear})
     r->assign(grid.size(), 0.0);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "host/pattern/lattice_order.h"
+#include "host/pattern/pattern_context.h"
 
 namespace cutwork::solvers {
 
@@ -95,6 +96,14 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
     if (!c.membrane_concentration.empty()) {
       r["mechanics"]["stiffness_curve"]["membrane_concentration"] = c.membrane_concentration;
       r["mechanics"]["stiffness_curve"]["bending_concentration"] = c.bending_concentration;
+    }
+    // Each shape's weight in the curve (its share of the run's stencils by count), by name.
+    if (!c.shape_weights.empty()) {
+      const StencilLibrary shapes = scene_stencil_library(scene);
+      nlohmann::json weights = nlohmann::json::object();
+      for (const StencilShape& shape : shapes.shapes())
+        if (size_t(shape.type) < c.shape_weights.size()) weights[shape.name] = c.shape_weights[size_t(shape.type)];
+      r["mechanics"]["stiffness_curve"]["shape_weights"] = weights;
     }
   }
   r["timings"] = timings_json(timings);

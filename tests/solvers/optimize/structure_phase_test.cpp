@@ -176,6 +176,7 @@ TEST(StencilledShell, TheHomogenisedCurveFollowsTheShapesTheStencilsUse) {
   const double c_equal = summarize_equilibrium(equal, solver.positions(), solver.alpha()).compliance;
   std::printf("stars in a star-and-circle library: compliance %.6g (stars' library %.6g; equal weights %.6g)\n",
               c_both, c_stars, c_equal);
+  EXPECT_EQ(curve_both.shape_weights, std::vector<double>({1.0, 0.0}));
   EXPECT_EQ(curve_both.alpha, curve_stars.alpha);
   EXPECT_EQ(curve_both.bending_bulk, curve_stars.bending_bulk);
   EXPECT_NEAR(c_both / c_stars, 1.0, 1e-10);
@@ -189,6 +190,8 @@ TEST(StencilledShell, TheHomogenisedCurveFollowsTheShapesTheStencilsUse) {
   FillStiffnessCurve curve_mixed;
   compliance(both, ctx, stencils, &curve_mixed);
   const FillStiffnessCurve expected = calibrate_fill_stiffness(ctx.shapes(), both.material, {}, w);
+  ASSERT_EQ(curve_mixed.shape_weights.size(), 2u);
+  EXPECT_NEAR(curve_mixed.shape_weights[1], w[1], 1e-15);
   EXPECT_EQ(curve_mixed.alpha, expected.alpha);
   EXPECT_EQ(curve_mixed.membrane_shear, expected.membrane_shear);
   const FillStiffnessCurve circle_alone = calibrate_fill_stiffness(ctx.shapes(), both.material, {}, {0.0, 1.0});
