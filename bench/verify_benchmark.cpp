@@ -12,12 +12,14 @@
 //                             lattice of 16 mm (fill ratio 0.49 there): holes smaller than the
 //                             coarse triangles, the case homogenisation is for; h = 0.02 / 2^k m,
 //                             conforming 0.0015 m.
-//   BM_Verify_Levels/<d>      the perforated `plate` above (4 mm ligaments) through verify's level
+//   BM_Verify_Levels/<d>/<w>  the perforated `plate` above (4 mm ligaments) through verify's level
 //                             loop: conforming L = 6 mm, at most 4 levels, tolerance 1%, budget
-//                             500k triangles, grading depth d (0: uniform levels). Counters:
-//                             levels, converged, last_change, finest_faces, C_finest and
-//                             C_extrapolated (J), error_bar (relative). Real time: meshing and
-//                             every solve.
+//                             500k triangles, grading depth d (0: uniform levels); w = 1 starts each
+//                             level's Newton from the last level's solution (the default), 0 from
+//                             rest. Counters: levels, converged, last_change, finest_faces, C_finest
+//                             and C_extrapolated (J), error_bar (relative), newton_iterations (all
+//                             levels), solve_seconds (the levels' solves alone). Real time: meshing
+//                             and every solve.
 //   BM_PeakZoom/<s>/<m>       the peak zoom, whole shell (m = 0) or submodel (m = 1); see below.
 // Second argument m, the shell model of the coarse run: 0 the paper's (hinge bending, stiffness
 // linear in α), 1 shape-operator bending with linear stiffness, 2 shape-operator bending with
@@ -149,8 +151,13 @@ void BM_Verify_Levels(benchmark::State& state) {
   o.tolerance = 0.01;
   o.max_faces = 500'000;
   o.grading_depth = int(state.range(0));
+  o.warm_start = state.range(1) != 0;
   solvers::ConformingVerification v;
   for (auto _ : state) v = solvers::verify_conforming(scene, meshes, lc, ctx, c.stencils, o);
+  double iterations = 0, solve_seconds = 0;
+  for (const solvers::RunQuantities& q : v.levels) iterations += q.newton_iterations, solve_seconds += q.seconds;
+  state.counters["newton_iterations"] = iterations;
+  state.counters["solve_seconds"] = solve_seconds;
   state.counters["levels"] = double(v.levels.size());
   state.counters["converged"] = v.converged;
   state.counters["last_change"] = v.last_change;
@@ -160,7 +167,13 @@ void BM_Verify_Levels(benchmark::State& state) {
   state.counters["error_bar"] = v.compliance_error_bar / v.extrapolated_compliance;
 }
 
-BENCHMARK(BM_Verify_Levels)->Arg(0)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_Verify_Levels)
+    ->Args({0, 1})
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
 
 // BM_PeakZoom/<s>/<m>: the plate clamped on one side with one hole of 15 mm (the test of the peak
 // zoom), two graded levels from L = 4 mm, then s zoom steps; m = 0 re-solves the whole shell on

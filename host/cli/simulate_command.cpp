@@ -179,8 +179,10 @@ void run_simulate(const SimulateOptions& opts) {
                                                   surface.bvh(), surface.shapes(), surface.field(), m,
                                                   stencils, fill_options);
                                             });
+    const RowMatX3d displacement = shell.solver().displacements();
     estimate = solvers::estimate_discretisation(scene, refined, held, model.mechanics(), summary,
-                                                solvers::simulation_edge_length(scene, meshes), meshes.sim);
+                                                solvers::simulation_edge_length(scene, meshes), meshes.sim,
+                                                &displacement);
     timings.add("discretisation", sw.seconds());
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
   }

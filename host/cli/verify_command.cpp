@@ -76,6 +76,7 @@ json run_json(const solvers::RunQuantities& q) {
 /// A conforming level: run_json and its peak (rim recovery, conforming_verification.h).
 json level_json(const solvers::RunQuantities& q) {
   json j = run_json(q);
+  j["warm_started"] = q.warm_started;
   j["peak"] = number_or_null(q.peak);
   j["rim_peak"] = number_or_null(q.rim_peak);
   j["rim_peak_position"] = std::isfinite(q.rim_peak)

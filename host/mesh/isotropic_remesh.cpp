@@ -31,7 +31,8 @@ using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using VertexIndex = Mesh::Vertex_index;
 
-Mesh to_cgal(const RowMatX3d& V, const RowMatX3i& F) {
+/// `index_out` (optional): per input vertex, its vertex in the mesh (null when unreferenced).
+Mesh to_cgal(const RowMatX3d& V, const RowMatX3i& F, std::vector<VertexIndex>* index_out = nullptr) {
   Mesh m;
   std::vector<VertexIndex> index(size_t(V.rows()), Mesh::null_vertex());
   std::vector<bool> used(size_t(V.rows()), false);
@@ -44,7 +45,36 @@ Mesh to_cgal(const RowMatX3d& V, const RowMatX3i& F) {
     if (face == Mesh::null_face())
       throw InputError(fmt::format("remeshing: face {} makes the surface non-manifold", f));
   }
+  if (index_out) *index_out = std::move(index);
   return m;
+}
+
+using EdgeFlags = Mesh::Property_map<Mesh::Edge_index, bool>;
+using VertexFlags = Mesh::Property_map<VertexIndex, bool>;
+
+/// Marks the input's feature edges (RemeshOptions::feature_edges) in `feature`; their ends on the
+/// boundary become corners (kept by step 1's collapses). Throws InputError for a pair that is no
+/// interior edge.
+void mark_features(const Mesh& m, const std::vector<VertexIndex>& index, const std::vector<std::array<int, 2>>& pairs,
+                   EdgeFlags& feature, VertexFlags& corner) {
+  for (const auto& [a, b] : pairs) {
+    const bool in_range = a >= 0 && b >= 0 && size_t(a) < index.size() && size_t(b) < index.size();
+    const auto h = in_range && index[size_t(a)] != Mesh::null_vertex() && index[size_t(b)] != Mesh::null_vertex()
+                       ? m.halfedge(index[size_t(a)], index[size_t(b)])
+                       : Mesh::null_halfedge();
+    if (h == Mesh::null_halfedge() || m.is_border(m.edge(h)))
+      throw InputError(fmt::format("remeshing: feature line ({}, {}) is not an interior edge of the surface", a, b));
+    feature[m.edge(h)] = true;
+    for (const VertexIndex v : {m.source(h), m.target(h)})
+      if (m.is_border(v)) corner[v] = true;
+  }
+}
+
+/// Per vertex: a corner or an end of a feature edge (what the remeshing must not move).
+void mark_kept_vertices(const Mesh& m, const VertexFlags& corner, const EdgeFlags& feature, VertexFlags& kept) {
+  for (const auto v : m.vertices()) kept[v] = corner[v];
+  for (const auto e : m.edges())
+    if (feature[e]) kept[m.vertex(e, 0)] = kept[m.vertex(e, 1)] = true;
 }
 
 /// Marks boundary vertices whose boundary turns by more than `angle` (radians) as constrained.
@@ -130,13 +160,15 @@ double flatness(const Mesh& m, Mesh::Face_index f) {
   return longest > 0 ? twice_area / longest : 0.0;
 }
 
-/// `frozen` (optional): faces whose vertices and edges are constrained as the boundary's are.
+/// `frozen` (optional): faces whose vertices and edges are constrained as the boundary's are;
+/// `feature` (optional): edges constrained as the boundary's are, their ends too.
 int repair_caps_and_needles(Mesh& m, double L, const RemeshOptions& options,
-                            const Mesh::Property_map<Mesh::Face_index, bool>* frozen = nullptr) {
+                            const Mesh::Property_map<Mesh::Face_index, bool>* frozen = nullptr,
+                            const EdgeFlags* feature = nullptr) {
   auto boundary_vertex = m.add_property_map<VertexIndex, bool>("v:on_boundary", false).first;
   auto boundary_edge = m.add_property_map<Mesh::Edge_index, bool>("e:on_boundary", false).first;
   for (const auto e : m.edges()) {
-    if (!m.is_border(e)) continue;
+    if (!m.is_border(e) && !(feature && (*feature)[e])) continue;
     boundary_edge[e] = true;
     boundary_vertex[m.vertex(e, 0)] = boundary_vertex[m.vertex(e, 1)] = true;
   }
@@ -327,30 +359,36 @@ std::vector<bool> faces_to_focus(const Mesh& m, const std::vector<Vec3>& centres
   return selected;
 }
 
-/// Remeshes the faces `selected` (indices of a garbage-free `m`) at `size`: their boundary edges
-/// split first (the remeshing protects them), the region's border with the rest kept, then every
-/// interior vertex projected onto `surface` (new boundary vertices onto `outline`, the input's
-/// boundary edges). Returns the number of faces selected.
+/// Remeshes the faces `selected` (indices of a garbage-free `m`) at `size`: their boundary and
+/// feature edges split first (the remeshing protects them), the region's border with the rest kept,
+/// then every interior vertex projected onto `surface` (new boundary vertices onto `outline`, the
+/// input's boundary edges; feature vertices stay on their straight edges). Returns the number of
+/// faces selected.
 int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const RemeshOptions& options,
                   Mesh::Property_map<VertexIndex, bool>& corner, const SurfaceTree& surface,
-                  const SegmentTree& outline) {
+                  const SegmentTree& outline, EdgeFlags& feature) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   const size_t before = m.number_of_faces(), vertices_before = m.number_of_vertices();
-  std::vector<Mesh::Edge_index> border;
-  for (const auto h : m.halfedges())
-    if (m.is_border(h) && selected[m.face(m.opposite(h)).idx()]) border.push_back(m.edge(h));
-  PMP::split_long_edges(border, 4.0 / 3.0 * size, m);
+  std::vector<Mesh::Edge_index> lines;
+  for (const auto h : m.halfedges()) {
+    const auto f = m.face(m.opposite(h));
+    if (f == Mesh::null_face() || !selected[f.idx()]) continue;
+    if (m.is_border(h) || (feature[m.edge(h)] && m.halfedge(m.edge(h)) == h)) lines.push_back(m.edge(h));
+  }
+  PMP::split_long_edges(lines, 4.0 / 3.0 * size, m, CGAL::parameters::edge_is_constrained_map(feature));
   // The new boundary vertices onto the input's outline: where step 1 collapsed a short boundary
   // edge, the edge left is a chord of the outline, and its midpoints would stay off it.
   for (const auto v : m.vertices())
-    if (size_t(v.idx()) >= vertices_before) m.point(v) = outline.closest_point(m.point(v));
+    if (size_t(v.idx()) >= vertices_before && m.is_border(v)) m.point(v) = outline.closest_point(m.point(v));
   // Splitting only adds faces (after the existing ones); all of them split selected faces.
   std::vector<Mesh::Face_index> region;
   for (const auto f : m.faces())
     if (size_t(f.idx()) >= before || selected[f.idx()]) region.push_back(f);
-  // Every boundary vertex pinned (on a face range, CGAL otherwise lets some slide off the outline).
+  // Every boundary and feature vertex pinned (on a face range, CGAL otherwise lets some slide off
+  // the outline).
   auto pinned = m.add_property_map<VertexIndex, bool>("v:pinned", false).first;
-  for (const auto v : m.vertices()) pinned[v] = corner[v] || m.is_border(v);
+  mark_kept_vertices(m, corner, feature, pinned);
+  for (const auto v : m.vertices()) pinned[v] = pinned[v] || m.is_border(v);
   // Vertices on no face of the region: the remeshing leaves them where they are (vertices it
   // creates, or recycles from the region's, read false).
   auto outside = m.add_property_map<VertexIndex, bool>("v:outside", false).first;
@@ -360,9 +398,10 @@ int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const
   PMP::isotropic_remeshing(region, size, m,
                            CGAL::parameters::number_of_iterations(unsigned(options.iterations))
                                .vertex_is_constrained_map(pinned)
+                               .edge_is_constrained_map(feature)
                                .protect_constraints(true));
   for (const auto v : m.vertices())
-    if (!outside[v] && !m.is_border(v) && !m.is_isolated(v)) m.point(v) = surface.closest_point(m.point(v));
+    if (!outside[v] && !pinned[v] && !m.is_border(v) && !m.is_isolated(v)) m.point(v) = surface.closest_point(m.point(v));
   m.remove_property_map(pinned);
   m.remove_property_map(outside);
   m.collect_garbage();
@@ -407,24 +446,33 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
   if (options.grading.focus_depth < 0 || options.grading.depth + options.grading.focus_depth > 10 ||
       (!options.grading.focus.empty() && !(options.grading.focus_radius > 0)))
     throw InputError("remeshing: a focus needs a depth >= 0 (at most 10 halvings in all) and a positive radius");
-  Mesh m = to_cgal(vertices, faces);
+  std::vector<VertexIndex> index;
+  Mesh m = to_cgal(vertices, faces, &index);
   auto corner = m.add_property_map<VertexIndex, bool>("v:corner", false).first;
+  auto feature = m.add_property_map<Mesh::Edge_index, bool>("e:feature", false).first;
   RemeshedMesh out;
   out.corner_vertices = mark_corners(m, options.corner_angle * std::numbers::pi / 180.0, corner);
+  mark_features(m, index, options.feature_edges, feature, corner);
   namespace PMP = CGAL::Polygon_mesh_processing;
   const double L = options.target_edge_length;
   out.collapsed_boundary_edges = collapse_short_border_edges(m, options.min_boundary_edge * L, corner);
   m.collect_garbage();
-  // Long boundary edges split at the remeshing's own threshold, then every boundary edge is
+  // Long boundary and feature edges split at the remeshing's own threshold, then every one is
   // protected: the remeshing neither splits, collapses, flips nor relaxes it.
-  std::vector<Mesh::Edge_index> border;
+  std::vector<Mesh::Edge_index> lines;
   for (const auto e : m.edges())
-    if (m.is_border(e)) border.push_back(e);
-  PMP::split_long_edges(border, 4.0 / 3.0 * L, m);
-  PMP::isotropic_remeshing(m.faces(), L, m,
-                           CGAL::parameters::number_of_iterations(unsigned(options.iterations))
-                               .vertex_is_constrained_map(corner)
-                               .protect_constraints(true));
+    if (m.is_border(e) || feature[e]) lines.push_back(e);
+  PMP::split_long_edges(lines, 4.0 / 3.0 * L, m, CGAL::parameters::edge_is_constrained_map(feature));
+  {
+    auto kept = m.add_property_map<VertexIndex, bool>("v:kept", false).first;
+    mark_kept_vertices(m, corner, feature, kept);
+    PMP::isotropic_remeshing(m.faces(), L, m,
+                             CGAL::parameters::number_of_iterations(unsigned(options.iterations))
+                                 .vertex_is_constrained_map(kept)
+                                 .edge_is_constrained_map(feature)
+                                 .protect_constraints(true));
+    m.remove_property_map(kept);
+  }
   m.collect_garbage();
   // Grading: refine where the material is narrow or the outline tight (header).
   if (options.grading.depth > 0 || (!options.grading.focus.empty() && options.grading.focus_depth > 0)) {
@@ -437,7 +485,7 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
       const std::vector<bool> selected =
           faces_to_grade(m, g.elements_across * g.feature_scale * current, g.rings);
       if (std::find(selected.begin(), selected.end(), true) == selected.end()) break;
-      out.graded_faces.push_back(refine_region(m, selected, 0.5 * current, options, corner, surface, outline));
+      out.graded_faces.push_back(refine_region(m, selected, 0.5 * current, options, corner, surface, outline, feature));
     }
     // Focus: halving passes about the centres down to L/2^(depth + focus_depth), each pass's ball
     // a little wider than the next so that sizes change by at most 2 between neighbours.
@@ -447,14 +495,15 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
       const double radius = g.focus_radius * (1.0 + 0.5 * double(total - pass));
       const std::vector<bool> selected = faces_to_focus(m, g.focus, radius, size, g.rings, outline, focus_band(g, pass, size));
       if (std::find(selected.begin(), selected.end(), true) == selected.end()) continue;
-      out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline));
+      out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline, feature));
     }
   }
   // Caps and needles left beside the protected outline (a valence flip across two collinear
   // boundary edges leaves a flat cap; short outline segments leave needles): caps are flipped away
   // and needles' short interior edges collapsed, the boundary untouched (its edges and vertices
   // constrained). Without this, 3 of 6 built-in designs failed verify with a zero-area face.
-  out.repaired_faces = repair_caps_and_needles(m, L, options);
+  out.repaired_faces = repair_caps_and_needles(m, L, options, nullptr, &feature);
+  for (const auto e : m.edges()) out.feature_edges += feature[e];
   write_mesh(m, out);
   return out;
 }
@@ -481,6 +530,7 @@ RemeshedMesh refine_about(const RowMatX3d& vertices, const RowMatX3i& faces, con
   const SurfaceTree& surface = in.surface;
   const SegmentTree& outline = in.outline;
   const double L = options.target_edge_length;
+  auto no_features = m.add_property_map<Mesh::Edge_index, bool>("e:feature", false).first;
   for (int pass = 1; pass <= total; ++pass) {
     const double size = L / double(1 << pass);
     const double radius = g.focus_radius * (1.0 + 0.5 * double(total - pass));
@@ -488,7 +538,7 @@ RemeshedMesh refine_about(const RowMatX3d& vertices, const RowMatX3i& faces, con
     for (const auto f : m.faces())
       if (fixed[f]) selected[f.idx()] = false;
     if (std::find(selected.begin(), selected.end(), true) == selected.end()) continue;
-    out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline));
+    out.focused_faces.push_back(refine_region(m, selected, size, options, corner, surface, outline, no_features));
   }
   out.repaired_faces = repair_caps_and_needles(m, L, options, &fixed);
   write_mesh(m, out);

@@ -23,6 +23,11 @@
 /// it. Boundary vertices where the boundary turns by more than `corner_angle` (the sheet's
 /// corners, a star's tips) are never collapsed away in step 1.
 ///
+/// Feature lines (`feature_edges`): interior input edges kept as lines through every step — split
+/// with the boundary in step 2 and by each grading pass that reaches them, protected like it in
+/// steps 3 and 4 — so that a region the input's vertices outline (a clamped area) is the same
+/// region on every output mesh.
+///
 /// Grading (`grading.depth` > 0, for the conforming verification: a ligament between two holes
 /// one triangle wide is far too stiff). After step 3, up to `depth` passes j = 1, 2, … refine the
 /// faces that need it to L/2^j:
@@ -41,6 +46,7 @@
 /// of meshes self-similar: remeshing at L/2^k with feature_scale 2^k refines the same regions as
 /// at L (the thresholds are in units of the level-0 size), so the sizes are everywhere 2^-k of the
 /// level-0 mesh's and Richardson extrapolation over the family holds.
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -83,6 +89,11 @@ struct RemeshOptions {
   double cap_angle = 160.0;
   double needle_ratio = 4.0;
   GradingOptions grading{};        ///< off by default
+  /// Interior lines to keep (pairs of input vertex indices, each an edge of the input): split like
+  /// the boundary, never flipped, collapsed or moved, so the output has a polyline of edges along
+  /// each (the conforming verification's support outlines, scene.h support_outline_edges). Their
+  /// vertices are kept like corners; a pair that is not an input edge is an InputError.
+  std::vector<std::array<int, 2>> feature_edges;
 };
 
 struct RemeshedMesh {
@@ -91,6 +102,7 @@ struct RemeshedMesh {
   int corner_vertices = 0;  ///< boundary vertices kept as corners
   int collapsed_boundary_edges = 0;  ///< step 1
   int repaired_faces = 0;            ///< step 4: flat faces fewer after the repair
+  int feature_edges = 0;             ///< output edges along RemeshOptions::feature_edges
   std::vector<int> graded_faces;     ///< faces selected by each grading pass (before it remeshed them)
   std::vector<int> focused_faces;    ///< the same for each focus pass that selected any
 };

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/mesh/bvh.h"
 
 namespace cutwork {
@@ -70,6 +71,20 @@ MeshMapping map_meshes(const SurfaceMesh& base, const SurfaceMesh& sim) {
   const double max2 = distance2.empty() ? 0.0 : *std::max_element(distance2.begin(), distance2.end());
   map.max_distance = std::sqrt(max2);
   return map;
+}
+
+RowMatX3d interpolate_vertex_field(const FaceBvh& from, const RowMatX3d& field, const RowMatX3d& points) {
+  const SurfaceMesh* mesh = from.mesh();
+  if (mesh == nullptr || mesh->num_faces() == 0 || field.rows() != mesh->num_vertices())
+    throw InternalError("interpolate_vertex_field: no mesh, or a field that does not fit its vertices");
+  RowMatX3d out(points.rows(), 3);
+  tbb::parallel_for(Eigen::Index(0), points.rows(), [&](Eigen::Index i) {
+    const SurfacePoint w = from.closest_point(points.row(i).transpose()).where;
+    Vec3 value = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) value += w.bary[k] * field.row(mesh->faces()(w.face, k)).transpose();
+    out.row(i) = value.transpose();
+  });
+  return out;
 }
 
 Eigen::VectorXd sim_to_base_faces(const MeshMapping& map, const Eigen::VectorXd& sim_field) {

@@ -3,6 +3,7 @@
 /// mesh: every base vertex and face is located on the simulation mesh by closest point.
 #include <vector>
 
+#include "host/mesh/bvh.h"
 #include "host/mesh/surface_mesh.h"
 
 namespace cutwork {
@@ -24,6 +25,12 @@ MeshMapping map_meshes(const SurfaceMesh& base, const SurfaceMesh& sim);
 /// the vertices on the uncut surface's boundary as opposed to the rims of the holes.
 std::vector<bool> boundary_vertices_on_boundary_of(const SurfaceMesh& mesh, const SurfaceMesh& reference,
                                                    double tolerance);
+
+/// A per-vertex field (#V_from×3) of the mesh `from` indexes, at `points` (#P×3, m): each
+/// point's closest point on that mesh, the field interpolated linearly over the face it lies in.
+/// What carries one mesh's solution to another mesh of the same surface (a conforming level's
+/// displacements to the next level, the peak zoom's submodel). Pre: `from` has faces.
+RowMatX3d interpolate_vertex_field(const FaceBvh& from, const RowMatX3d& field, const RowMatX3d& points);
 
 /// Transfers a per-face field from simulation faces to base faces.
 Eigen::VectorXd sim_to_base_faces(const MeshMapping& map, const Eigen::VectorXd& sim_field);

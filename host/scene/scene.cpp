@@ -864,12 +864,12 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
   return lc;
 }
 
-SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed) {
-  if (int(fixed.size()) != mesh.num_vertices()) throw InternalError("support_extent: one flag per vertex expected");
-  SupportExtent e;
+namespace {
+/// Per face: part of an area support — its three vertices fixed and one of them inside the mesh (a
+/// face with all three on the boundary and fixed is a line support turning a corner).
+std::vector<bool> area_support_faces(const SurfaceMesh& mesh, const std::vector<bool>& fixed, const char* who) {
+  if (int(fixed.size()) != mesh.num_vertices()) throw InternalError(std::string(who) + ": one flag per vertex expected");
   std::vector<bool> face_fixed(std::size_t(mesh.num_faces()), false);
-  // A face is part of an area support when its three vertices are fixed and one of them is inside
-  // the mesh: a face with all three on the boundary and fixed is a line support turning a corner.
   const std::vector<bool>& boundary = mesh.is_boundary_vertex();
   for (int f = 0; f < mesh.num_faces(); ++f) {
     bool all = true, inner = false;
@@ -879,8 +879,32 @@ SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& f
       inner = inner || !boundary[v];
     }
     face_fixed[std::size_t(f)] = all && inner;
-    if (face_fixed[std::size_t(f)]) e.area += mesh.face_areas()[f];
   }
+  return face_fixed;
+}
+}  // namespace
+
+std::vector<int> support_outline_edges(const SurfaceMesh& mesh, const std::vector<bool>& fixed) {
+  const std::vector<bool> face_fixed = area_support_faces(mesh, fixed, "support_outline_edges");
+  const std::vector<bool>& boundary = mesh.is_boundary_vertex();
+  std::vector<int> out;
+  for (int k = 0; k < mesh.num_edges(); ++k) {
+    const int a = mesh.edges()(k, 0), b = mesh.edges()(k, 1);
+    const int f0 = mesh.edge_faces()(k, 0), f1 = mesh.edge_faces()(k, 1);
+    if (f1 < 0 || !fixed[std::size_t(a)] || !fixed[std::size_t(b)]) continue;
+    const bool in0 = face_fixed[std::size_t(f0)], in1 = face_fixed[std::size_t(f1)];
+    const bool chord = boundary[std::size_t(a)] && boundary[std::size_t(b)];
+    if (!chord && (in0 != in1 || (!in0 && !in1))) out.push_back(k);
+  }
+  return out;
+}
+
+SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed) {
+  const std::vector<bool> face_fixed = area_support_faces(mesh, fixed, "support_extent");
+  const std::vector<bool>& boundary = mesh.is_boundary_vertex();
+  SupportExtent e;
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    if (face_fixed[std::size_t(f)]) e.area += mesh.face_areas()[f];
   std::vector<bool> on_edge(fixed.size(), false);
   for (int k = 0; k < mesh.num_edges(); ++k) {
     const int a = mesh.edges()(k, 0), b = mesh.edges()(k, 1);

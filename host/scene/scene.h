@@ -217,6 +217,14 @@ struct SupportExtent {
 };
 SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed);
 
+/// The interior edges (indices into mesh.edges()) that outline what `fixed` holds, as
+/// support_extent measures it: both ends fixed, not both on the boundary (a chord, beside a hole's
+/// rim or across a corner), and either on an area support's outline (one face in the area, one
+/// not) or a line support inside the mesh (neither face in an area). A remesh that keeps these lines (host/mesh/isotropic_remesh.h
+/// RemeshOptions::feature_edges) holds the same region on every mesh: the conforming verification's
+/// levels, where a clamped area's outline would otherwise be cut anew by each level's triangles.
+std::vector<int> support_outline_edges(const SurfaceMesh& mesh, const std::vector<bool>& fixed);
+
 /// The largest relative difference between two extents' area, length and point count (each
 /// |a − b| / max(a, b), 0 where both are 0). Areas are compared against at least
 /// edge_length × length, the area a line support's outline can differ by between meshes. Points

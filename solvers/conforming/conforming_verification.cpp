@@ -6,6 +6,8 @@
 #include "solvers/conforming/zoom_submodel.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -29,9 +31,10 @@ namespace {
 /// displacements into `u` when non-null.
 void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const NewtonSettings& settings,
                RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u, const Eigen::VectorXd* concentration_weight = nullptr,
-               Eigen::VectorXd* W_peak = nullptr) {
+               Eigen::VectorXd* W_peak = nullptr, const RowMatX3d* start = nullptr) {
   Stopwatch sw;
   EquilibriumSolver solver(model, settings);
+  if (start) solver.start_from(*start);
   const EquilibriumStats& stats = solver.solve(alpha);
   if (!stats.stable)
     throw SolveError(fmt::format("the {}-triangle shell's equilibrium is unstable (it buckles); the comparison "
@@ -45,24 +48,81 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
   q.material_area = alpha.dot(model.mesh().face_areas());
   q.load_total = model.external_forces(alpha).colwise().sum().transpose();
   q.newton_iterations = stats.newton_iterations;
+  q.warm_started = start != nullptr && !stats.cold_restarted;
   W = s.energy_density;
   if (W_peak) *W_peak = s.peak_energy_density;
   if (u) *u = solver.displacements();
   q.seconds = sw.seconds();
 }
 
-/// The base mesh cut along every stencil outline and remeshed at `edge_length`.
-SurfaceMesh conforming_mesh(const CutSurface& cut, double edge_length, int iterations, const GradingOptions& grading) {
+/// The base mesh cut along every stencil outline and remeshed at `edge_length`, keeping the cut's
+/// `features` (support_lines_on_cut) as lines.
+SurfaceMesh conforming_mesh(const CutSurface& cut, double edge_length, int iterations, const GradingOptions& grading,
+                            const std::vector<std::array<int, 2>>& features) {
   RemeshOptions ro;
   ro.target_edge_length = edge_length;
   ro.iterations = iterations;
   ro.grading = grading;
+  ro.feature_edges = features;
   RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
   return SurfaceMesh(std::move(r.vertices), std::move(r.faces),
                      fmt::format("conforming mesh (edge length {:.4g} m)", edge_length));
 }
 
 /// W̄ on coarse faces and the comparison fields of `v` (finest level already stored in `v`).
+/// The outlines of the scene's supports on the base mesh (support_outline_edges: a clamped area's
+/// border, an interior line support) as edges of the cut (pairs of cut vertices): the pieces of
+/// those base edges the stencils leave, each an interior edge of the cut whose ends lie on one
+/// outline edge (a base vertex of it, or a vertex the cut made on it, within `snap` m). Every
+/// conforming level keeps them (RemeshOptions::feature_edges), so the supports hold the same region
+/// on each level instead of one outlined anew by each level's triangles.
+std::vector<std::array<int, 2>> support_lines_on_cut(const Scene& scene, const SurfaceMesh& base, const CutSurface& cut,
+                                                     double snap) {
+  const LoadCase base_case = resolve_load_case(scene, base);
+  const std::vector<int> outline = support_outline_edges(base, base_case.fixed);
+  std::vector<std::array<int, 2>> out;
+  if (outline.empty()) return out;
+  // The outline's base edges by base vertex, and the segments.
+  std::vector<std::vector<int>> at_vertex(size_t(base.num_vertices()));
+  for (int k = 0; k < int(outline.size()); ++k)
+    for (int c = 0; c < 2; ++c) at_vertex[size_t(base.edges()(outline[size_t(k)], c))].push_back(k);
+  auto on_segment = [&](int k, const Vec3& p) {
+    const Vec3 a = base.vertices().row(base.edges()(outline[size_t(k)], 0)).transpose();
+    const Vec3 b = base.vertices().row(base.edges()(outline[size_t(k)], 1)).transpose();
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    return (a + t * (b - a) - p).norm() <= snap;
+  };
+  auto candidates = [&](int v) -> const std::vector<int>* {
+    const int s = cut.source_vertex[v];
+    return s >= 0 ? &at_vertex[size_t(s)] : nullptr;
+  };
+  // The cut's interior edges (two faces each).
+  std::map<std::pair<int, int>, int> faces_at;
+  for (int f = 0; f < cut.faces.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int a = cut.faces(f, c), b = cut.faces(f, (c + 1) % 3);
+      ++faces_at[{std::min(a, b), std::max(a, b)}];
+    }
+  for (const auto& [edge, count] : faces_at) {
+    if (count != 2) continue;
+    const auto [p, q] = edge;
+    const Vec3 xp = cut.vertices.row(p).transpose(), xq = cut.vertices.row(q).transpose();
+    const std::vector<int>* cp = candidates(p);
+    const std::vector<int>* cq = candidates(q);
+    bool along = false;
+    if (cp || cq) {
+      // One end is a base vertex: the edge lies along one of its outline edges or none.
+      for (const std::vector<int>* c : {cp, cq})
+        if (c)
+          for (int k : *c) along = along || (on_segment(k, xp) && on_segment(k, xq));
+    } else {
+      for (int k = 0; k < int(outline.size()) && !along; ++k) along = on_segment(k, xp) && on_segment(k, xq);
+    }
+    if (along) out.push_back({p, q});
+  }
+  return out;
+}
+
 void compare_energy_densities(const SurfaceMesh& sim, ConformingVerification& v) {
   const SurfaceMesh& conf = v.conforming_mesh;
   const FaceBvh bvh(sim);
@@ -165,10 +225,16 @@ struct LevelSolve {
 /// Solves the conforming `mesh` (pieces the stencils cut loose are dropped from it first) under the
 /// scene's supports and loads, and recovers its rim with `rim_options`; q gets the run's scalars,
 /// the supports' extent, the rim peak and the interior peak (not the edge length or mesh quality).
+/// With `previous` (the last level's mesh and its displacements), Newton starts from those
+/// displacements carried onto this mesh (interpolate_vertex_field) instead of from rest.
+struct PreviousLevel {
+  const SurfaceMesh* mesh = nullptr;
+  const RowMatX3d* u = nullptr;
+};
 LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scene, const SceneMeshes& meshes,
                                   const LoadCase& load_case, const MechanicsSettings& mechanics,
                                   const NewtonSettings& settings, const RimRecoveryOptions& rim_options,
-                                  std::vector<std::string>& notes) {
+                                  std::vector<std::string>& notes, PreviousLevel previous = {}) {
   LevelSolve run;
   RunQuantities& q = run.q;
   // Boundary selectors mean the surface's boundary, not the rims of the holes (tolerance: the
@@ -186,7 +252,11 @@ LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scen
   q.fixed_extent = support_extent(mesh, lc.fixed);
   q.clamped_extent = support_extent(mesh, lc.clamped);
   const ShellModel model(mesh, scene.material, lc, mechanics);
-  solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, run.W, &run.u);
+  RowMatX3d start;
+  if (previous.mesh && previous.u && previous.mesh->num_faces() > 0)
+    start = mesh.vertices() + interpolate_vertex_field(FaceBvh(*previous.mesh), *previous.u, mesh.vertices());
+  solve_run(model, Eigen::VectorXd::Ones(mesh.num_faces()), settings, q, run.W, &run.u, nullptr, nullptr,
+            start.rows() > 0 ? &start : nullptr);
   run.load_case = std::move(lc);
   // The peak: recovered on the rims, and over the interior faces.
   Stopwatch recovering;
@@ -273,11 +343,12 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.alpha = stencils.empty() ? own : filter.apply(own);
   // The conforming runs are at α = 1, where every fill rule is the solid.
   Eigen::VectorXd coarse_W_peak;
+  RowMatX3d coarse_u;  // the first conforming level starts from it
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, stencils);
   {
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     // W_peak's factors blend as the cell filter does (peak_energy_density.h).
-    solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, nullptr, filter.identity() ? nullptr : &filter.blend(),
+    solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, &coarse_u, filter.identity() ? nullptr : &filter.blend(),
               &coarse_W_peak);
     v.coarse.edge_length = meshes.sim.mean_edge_length();
     // The material the stencils leave is measured with the faces' own α, as a design measures it
@@ -310,6 +381,9 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   rim_options.corner_radius = scene.fabrication.min_feature;
   rim_options.support_radius = options.edge_length;
   rim_options.corners = &corners;
+  // The supports' outlines, kept as lines by every level's remeshing.
+  const std::vector<std::array<int, 2>> support_lines =
+      support_lines_on_cut(scene, meshes.base, cut, 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm());
   const double cut_seconds = cutting.seconds();
   LoadCase finest_case;  // the supports and loads of the finest level solved (the zoom's submodel)
   for (int level = 0; level < options.levels; ++level) {
@@ -335,7 +409,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       }
     }
     Stopwatch meshing;
-    SurfaceMesh mesh = conforming_mesh(cut, L, options.remesh_iterations, grading);
+    SurfaceMesh mesh = conforming_mesh(cut, L, options.remesh_iterations, grading, support_lines);
     const double mesh_seconds = meshing.seconds() + (level == 0 ? cut_seconds : 0.0);
     if (mesh.num_faces() > options.max_faces) {
       if (level > 0) {
@@ -349,7 +423,11 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
                                     "{}: solved anyway, as the only level",
                                     L, mesh.num_faces(), options.max_faces));
     }
-    LevelSolve run = solve_conforming_level(mesh, L, scene, meshes, load_case, mechanics, settings, rim_options, v.notes);
+    PreviousLevel previous;
+    if (options.warm_start)
+      previous = level > 0 ? PreviousLevel{&v.conforming_mesh, &v.conforming_displacement} : PreviousLevel{&meshes.sim, &coarse_u};
+    LevelSolve run =
+        solve_conforming_level(mesh, L, scene, meshes, load_case, mechanics, settings, rim_options, v.notes, previous);
     RunQuantities& q = run.q;
     q.edge_length = L;
     q.mesh_seconds = mesh_seconds;
@@ -511,7 +589,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
         }
       }
       Stopwatch meshing;
-      SurfaceMesh mesh = conforming_mesh(cut, L, options.remesh_iterations, grading);
+      SurfaceMesh mesh = conforming_mesh(cut, L, options.remesh_iterations, grading, support_lines);
       const double mesh_seconds = meshing.seconds();
       if (mesh.num_faces() > kBudgetPredictionMargin * options.max_faces) {
         v.notes.push_back(fmt::format("the peak zoom stopped before step {}: its {} triangles exceed 1.25× the budget "
@@ -519,7 +597,11 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
                                       step, mesh.num_faces(), options.max_faces));
         break;
       }
-      LevelSolve run = solve_conforming_level(mesh, L, scene, meshes, load_case, mechanics, settings, rim_options, v.notes);
+      // From the finest level's solution (the zoom changes the field near its balls only).
+      PreviousLevel previous;
+      if (options.warm_start) previous = {&v.conforming_mesh, &v.conforming_displacement};
+      LevelSolve run =
+          solve_conforming_level(mesh, L, scene, meshes, load_case, mechanics, settings, rim_options, v.notes, previous);
       PeakZoomStep s;
       s.faces = mesh.num_faces();
       s.rim_edge_length = L / double(1 << (options.grading_depth + step));

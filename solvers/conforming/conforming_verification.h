@@ -101,6 +101,11 @@ struct ConformingOptions {
   /// Each zoom step re-solves a submodel of the finest level about the centres, its collar held at
   /// the level's solution (PeakZoom), instead of the whole shell.
   bool zoom_submodel = true;
+  /// Each level starts Newton from the last level's displacements carried onto its mesh (the first
+  /// from the coarse run's; host/mesh/mesh_mapping.h interpolate_vertex_field), not from rest: the
+  /// same equilibrium to Newton's tolerance in fewer iterations (a guess Newton fails from is
+  /// dropped for a start from rest, EquilibriumSolver::start_from).
+  bool warm_start = true;
 };
 
 /// One step of the peak zoom. Step 0 is the finest level itself.
@@ -137,6 +142,7 @@ struct RunQuantities : EquilibriumScalars {
   double material_area = 0;        ///< m²: Σ α A (coarse) or Σ A (conforming)
   Vec3 load_total = Vec3::Zero();  ///< N: dead loads plus self-weight, free and supported vertices
   int newton_iterations = 0;
+  bool warm_started = false;       ///< Newton started from the last level's (or the coarse run's) solution and converged from it
   double seconds = 0;              ///< the solve and its summary
   double mesh_seconds = 0;         ///< conforming levels: cutting and (graded) remeshing
   /// Mesh quality (conforming levels; NaN for the coarse run): the smallest angle (degrees) and

@@ -12,6 +12,7 @@
 #include "host/core/internal_error.h"
 #include "host/core/work_limits.h"
 #include "host/mesh/bvh.h"
+#include "host/mesh/mesh_mapping.h"
 #include "host/surfaces/generators.h"
 
 namespace cutwork::solvers {
@@ -122,7 +123,7 @@ FillRatiosOnMesh coarse_fill_ratios_on(const SurfaceMesh& coarse, Eigen::VectorX
 DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMeshRefinements& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
-                                               const SurfaceMesh& coarse_mesh) {
+                                               const SurfaceMesh& coarse_mesh, const RowMatX3d* coarse_displacement) {
   const DiscretisationOptions& options = refined.options();
   DiscretisationEstimate e;
   e.tolerance = options.tolerance;
@@ -134,6 +135,12 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
   }
   e.support_change = 0;
   std::vector<double> compliances{coarse.compliance};
+  // Each refined level starts Newton from the last level's displacements carried onto its mesh
+  // (the same equilibrium, fewer iterations; EquilibriumSolver::start_from): the first from the
+  // coarse run's, where given.
+  const bool coarse_given = coarse_displacement && coarse_displacement->rows() == coarse_mesh.num_vertices();
+  const SurfaceMesh* previous = coarse_given ? &coarse_mesh : nullptr;
+  RowMatX3d previous_u = coarse_given ? *coarse_displacement : RowMatX3d();
   for (int k = 0;; ++k) {
     // Past the levels always solved, one more only while the finest three have not settled and
     // the cautious estimate of unsettled levels cannot tell converged by itself.
@@ -148,9 +155,14 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     const LoadCase lc = resolve_load_case(scene, r->mesh);
     const ShellModel model(r->mesh, scene.material, lc, mechanics);
     EquilibriumSolver solver(model, options.newton);
-    solver.solve(alpha);
+    if (previous)
+      solver.start_from(r->mesh.vertices() + interpolate_vertex_field(FaceBvh(*previous), previous_u, r->mesh.vertices()));
+    const EquilibriumStats& stats = solver.solve(alpha);
+    previous = &r->mesh;
+    previous_u = solver.displacements();
     e.levels.push_back({r->edge_length, r->mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha),
-                        support_extent(r->mesh, lc.fixed), support_extent(r->mesh, lc.clamped)});
+                        support_extent(r->mesh, lc.fixed), support_extent(r->mesh, lc.clamped),
+                        stats.newton_iterations, stats.warm_started && !stats.cold_restarted});
     compliances.push_back(e.levels.back().quantities.compliance);
     e.support_change = std::max({e.support_change, support_extent_change(e.levels.front().fixed, e.levels.back().fixed, coarse_edge_length),
                                  support_extent_change(e.levels.front().clamped, e.levels.back().clamped, coarse_edge_length)});
@@ -239,7 +251,9 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
                       {"strain_energy", l.quantities.strain_energy},
                       {"W_max", l.quantities.W_max},
                       {"max_displacement", l.quantities.max_displacement},
-                      {"supports", {{"fixed", support_extent_json(l.fixed)}, {"clamped", support_extent_json(l.clamped)}}}});
+                      {"supports", {{"fixed", support_extent_json(l.fixed)}, {"clamped", support_extent_json(l.clamped)}}},
+                      {"newton_iterations", l.newton_iterations >= 0 ? nlohmann::json(l.newton_iterations) : nlohmann::json()},
+                      {"warm_started", l.warm_started}});
   return {{"method", e.method},
           {"levels", levels},
           {"compliance_extrapolated", number_or_null(e.compliance.extrapolated)},

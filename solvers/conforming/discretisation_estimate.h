@@ -9,7 +9,9 @@
 /// subdivisions of the simulation mesh when it comes from a file (the same flat facets: only the
 /// mechanics' error is seen). A refinement whose mesh would exceed `max_faces` triangles is left
 /// out (the estimate then rests on two levels). Supports and loads are resolved on each mesh again
-/// (loads are integrated over their regions, so their totals are the same).
+/// (loads are integrated over their regions, so their totals are the same). Each refined level
+/// after the first starts Newton from the last level's displacements carried onto its mesh
+/// (EquilibriumSolver::start_from): the same equilibria, fewer iterations.
 ///
 /// What is held fixed is the material: the fill ratio each face of the simulation mesh carries
 /// (the design's α after the cell filter, what the coarse model's stiffness and weight are
@@ -112,6 +114,10 @@ struct DiscretisationLevel {
   int faces = 0;
   EquilibriumScalars quantities;  ///< of the material
   SupportExtent fixed, clamped;   ///< what the scene's supports hold on this level's mesh
+  /// The level's Newton iterations and whether they started from the last level's solution (not
+  /// from rest); −1 and false for h, which is solved elsewhere.
+  int newton_iterations = -1;
+  bool warm_started = false;
 };
 
 struct DiscretisationEstimate {
@@ -156,15 +162,19 @@ FillRatiosOnMesh coarse_fill_ratios_on(const SurfaceMesh& coarse, Eigen::VectorX
 /// Solves the scene's shell on the refinements (h/2 and h/4; h/8 where those have not settled and
 /// the budget allows) with the fill ratios `fill_on` gives and `mechanics` (resolved as for the
 /// coarse run, its filter already in the fill ratios), and judges the coarse run's `coarse`
-/// quantities (on `coarse_mesh`, the simulation mesh, of edge length `coarse_edge_length`).
+/// quantities (on `coarse_mesh`, the simulation mesh, of edge length `coarse_edge_length`). With
+/// `coarse_displacement` (#V of coarse_mesh × 3, m: the coarse run's equilibrium) the first refined
+/// level's Newton starts from it carried onto its mesh, and each later level from the last one's.
 /// Throws what the equilibrium throws (SolveError).
 DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMeshRefinements& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
-                                               const SurfaceMesh& coarse_mesh);
+                                               const SurfaceMesh& coarse_mesh,
+                                               const RowMatX3d* coarse_displacement = nullptr);
 
 /// report.json's `discretisation` object: method, levels [{edge_length, faces, compliance,
-/// strain_energy, W_max, max_displacement, supports {fixed, clamped: {area, length, points}}}],
+/// strain_energy, W_max, max_displacement, supports {fixed, clamped: {area, length, points}},
+/// newton_iterations (null for h), warm_started}],
 /// support_change, supports_consistent, compliance_extrapolated, observed_order,
 /// compliance_error_bar, rule, estimated_error, compliance / W_max / max_displacement changes from h
 /// to h/2, tolerance, converged and a one-line `summary` (no times: the report's timings hold

@@ -150,8 +150,10 @@ SubmodelSolution solve_submodel(const ZoomPatch& patch, const SurfaceMesh& sub, 
         held[{P(v, 0), P(v, 1), P(v, 2)}] = patch.level_vertex[size_t(v)];
       }
   const RowMatX3d& X = sub.vertices();
-  RowMatX3d x(X.rows(), 3);
+  RowMatX3d u_patch(patch.mesh.num_vertices(), 3);
+  for (int v = 0; v < patch.mesh.num_vertices(); ++v) u_patch.row(v) = u.row(patch.level_vertex[size_t(v)]);
   const FaceBvh bvh(patch.mesh);
+  RowMatX3d x = X + interpolate_vertex_field(bvh, u_patch, X);
   size_t found = 0;
   for (Eigen::Index v = 0; v < X.rows(); ++v) {
     const auto it = held.find({X(v, 0), X(v, 1), X(v, 2)});
@@ -159,16 +161,9 @@ SubmodelSolution solve_submodel(const ZoomPatch& patch, const SurfaceMesh& sub, 
       ++found;
       lc.fixed[size_t(v)] = true;
       x.row(v) = X.row(v) + u.row(it->second);
-      continue;
-    }
-    if (lc.fixed[size_t(v)]) {  // the scene's own support
+    } else if (lc.fixed[size_t(v)]) {  // the scene's own support
       x.row(v) = X.row(v);
-      continue;
     }
-    const SurfacePoint w = bvh.closest_point(X.row(v).transpose()).where;
-    Vec3 d = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) d += w.bary[k] * u.row(patch.level_vertex[size_t(patch.mesh.faces()(w.face, k))]).transpose();
-    x.row(v) = X.row(v) + d.transpose();
   }
   if (found != held.size())
     throw SolveError(fmt::format("the peak zoom's submodel kept {} of its {} collar vertices", found, held.size()));

@@ -152,6 +152,18 @@ void EquilibriumSolver::restore_equilibrium(const RowMatX3d& x, const Eigen::Vec
   m_last_shift = 0;
 }
 
+void EquilibriumSolver::start_from(const RowMatX3d& x) {
+  const RowMatX3d& rest = m_model.rest_positions();
+  if (x.rows() != rest.rows() || !x.allFinite())
+    throw InternalError(fmt::format("start_from: {} positions for a model of {} vertices, or some not finite",
+                                    x.rows(), rest.rows()));
+  m_guess = x;
+  const LoadCase& lc = m_model.load_case();
+  if (!lc.held_motion)
+    for (Eigen::Index v = 0; v < x.rows(); ++v)
+      if (size_t(v) < lc.fixed.size() && lc.fixed[size_t(v)]) m_guess.row(v) = rest.row(v);
+}
+
 RowMatX3d EquilibriumSolver::displacements() const { return m_x - m_model.rest_positions(); }
 
 double EquilibriumSolver::max_displacement() const {
@@ -465,9 +477,11 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
   if (!(m_stats.load_norm > 0) && !(model.load_case().held_motion && m_settings.force_scale > 0))
     throw SolveError("the load case applies no load to the free part of the shell: add a load");
 
-  const bool warm = m_has_solution;
+  const bool guessed = m_guess.rows() > 0;
+  const bool warm = m_has_solution || guessed;
   m_stats.warm_started = warm;
-  m_trial = m_x;
+  m_trial = guessed ? m_guess : m_x;
+  m_guess.resize(0, 3);
   try {
     reach_equilibrium(alpha, load, warm);
   } catch (const SolveError&) {

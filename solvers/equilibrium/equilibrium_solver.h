@@ -124,6 +124,13 @@ class EquilibriumSolver {
 
   /// Forgets the warm start: the next solve starts from the rest state.
   void reset();
+  /// The next solve starts Newton from `x` (#V×3, m): a guess, not an equilibrium — a coarser mesh's
+  /// solution carried over (host/mesh/mesh_mapping.h interpolate_vertex_field). Fixed vertices are
+  /// put back at rest unless the load case holds them moved (LoadCase::held_motion). If Newton
+  /// fails from the guess, the solve restarts from rest (NewtonSettings::cold_restart), as after any
+  /// warm start. The last valid equilibrium (positions(), has_solution()) is not touched until a
+  /// solve succeeds. Throws InternalError for a wrong size or a position that is not finite.
+  void start_from(const RowMatX3d& x);
   /// Makes `x` (#V×3, m) the last valid equilibrium at fill ratios `alpha` (#F), as a converged
   /// stable solve leaves it: the factor of the Hessian there (what Newton–Krylov preconditions
   /// the next solve with, and the adjoint uses). Checkpoints: solves after it are bit for bit
@@ -184,6 +191,7 @@ class EquilibriumSolver {
   Eigen::VectorXd m_alpha;
   RowMatX3d m_forces;
   RowMatX3d m_trial;    ///< Newton iterate
+  RowMatX3d m_guess;    ///< start_from's guess for the next solve (0 rows: none)
   bool m_has_solution = false;
   bool m_factor_at_solution = false;
   bool m_factor_stale = false;  ///< the last Krylov step needed many iterations: refactorise

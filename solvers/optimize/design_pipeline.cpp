@@ -13,6 +13,7 @@ DesignState evaluate_design(StencilledShell& shell, const PatternContext& ctx, c
   shell.set_stencils(layout_params(layout));
   d.stats = shell.equilibrate();
   d.summary = shell.summary();
+  d.displacement = shell.solver().displacements();
   d.alpha = shell.alpha();
   d.material_fraction = shell.material_fraction();
   if (!layout.empty()) d.overlaps = find_overlaps(ctx.surface(), layout, ctx.settings().s);

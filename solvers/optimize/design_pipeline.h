@@ -73,6 +73,7 @@ struct DesignState {
   Eigen::VectorXd alpha;             ///< #F of the simulation mesh
   EquilibriumSummary summary;        ///< W (#F), W_max, compliance, strain energy, displacement
   EquilibriumStats stats;
+  RowMatX3d displacement;            ///< #V×3 (m): the equilibrium's (what a refined mesh's solve starts from)
   double material_fraction = 1;      ///< Σ α A / Σ A
   OverlapReport overlaps;            ///< against the scene's safety factor s
 };

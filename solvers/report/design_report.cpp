@@ -185,7 +185,7 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     const double h = simulation_edge_length(scene, meshes);
     const DiscretisationEstimate uncut = estimate_discretisation(
         scene, refined, coarse_fill_ratios_on(meshes.sim, result.uncut.alpha), mechanics, result.uncut.summary, h,
-        meshes.sim);
+        meshes.sim, &result.uncut.displacement);
     // The final design's material held on every level (the holes re-cut where the simulation
     // mesh resolves them): the mesh's error, not the fill rule's.
     const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
@@ -196,7 +196,7 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
         scene, refined,
         coarse_fill_ratios_on(meshes.sim, result.final_design.alpha, filter.resolution(),
                               filter.identity() ? FillRatiosOnMesh() : own_on),
-        mechanics, result.final_design.summary, h, meshes.sim);
+        mechanics, result.final_design.summary, h, meshes.sim, &result.final_design.displacement);
     discretisation = {{"uncut", discretisation_json(uncut)},
                       {"final", discretisation_json(final_design)},
                       {"converged", uncut.converged && final_design.converged},

@@ -16,6 +16,7 @@
 #include "host/cut/cut_surface.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
+#include "host/scene/scene.h"
 #include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
 
@@ -335,6 +336,70 @@ TEST(IsotropicRemesh, RefineAboutKeepsFrozenFacesAndRefinesAlongTheRim) {
   // One flag per face.
   frozen.pop_back();
   EXPECT_THROW(refine_about(plain.vertices, plain.faces, frozen, c.cut.vertices, c.cut.faces, ro), InputError);
+}
+
+TEST(IsotropicRemesh, FeatureLinesAreKeptThroughTheRemeshAndTheGrading) {
+  // The cut plate clamped over x < −0.07 (an area support, as the chair's runner on the floor): the
+  // outline of the clamped area is a jagged line of input edges (support_outline_edges). Kept as
+  // feature lines, every output mesh — uniform and graded, coarse and fine — has edges along all
+  // of it, so the clamped region is the same on each; without them the remeshing cuts across it.
+  const CutPlate& c = cut_plate();
+  const SurfaceMesh input(c.cut.vertices, c.cut.faces, "cut plate");
+  std::vector<bool> fixed(size_t(input.num_vertices()), false);
+  for (int v = 0; v < input.num_vertices(); ++v) fixed[size_t(v)] = input.vertices()(v, 0) < -0.07;
+  const std::vector<int> outline = support_outline_edges(input, fixed);
+  ASSERT_GT(outline.size(), 3u);
+  std::vector<std::array<int, 2>> pairs;
+  std::vector<std::pair<Vec3, Vec3>> segments;
+  double length = 0;
+  for (int e : outline) {
+    const int a = input.edges()(e, 0), b = input.edges()(e, 1);
+    pairs.push_back({a, b});
+    segments.emplace_back(input.vertices().row(a), input.vertices().row(b));
+    length += (input.vertices().row(a) - input.vertices().row(b)).norm();
+  }
+  // The output edges whose ends both lie on one segment of the line, and their length.
+  auto along = [&](const SurfaceMesh& out, int& count) {
+    double sum = 0;
+    count = 0;
+    for (int e = 0; e < out.num_edges(); ++e) {
+      const Vec3 p = out.vertices().row(out.edges()(e, 0)), q = out.vertices().row(out.edges()(e, 1));
+      for (const auto& [a, b] : segments)
+        if (distance_to_segment(p, a, b) < 1e-12 && distance_to_segment(q, a, b) < 1e-12) {
+          sum += (p - q).norm();
+          ++count;
+          break;
+        }
+    }
+    return sum;
+  };
+  for (const int depth : {0, 2})
+    for (const double L : {0.01, 0.005}) {
+      SCOPED_TRACE(::testing::Message() << "depth " << depth << ", L " << L);
+      RemeshOptions ro{L, 5, 30.0};
+      ro.grading.depth = depth;
+      ro.feature_edges = pairs;
+      const RemeshedMesh r = remesh_isotropic(c.cut.vertices, c.cut.faces, ro);
+      const SurfaceMesh out(r.vertices, r.faces, "with features");
+      int count = 0;
+      EXPECT_NEAR(along(out, count), length, 1e-9 * length);
+      EXPECT_EQ(count, r.feature_edges);
+      EXPECT_LT(outline_drift(input, out), 1e-12);
+      ro.feature_edges.clear();
+      const RemeshedMesh plain = remesh_isotropic(c.cut.vertices, c.cut.faces, ro);
+      EXPECT_EQ(plain.feature_edges, 0);
+      EXPECT_LT(along(SurfaceMesh(plain.vertices, plain.faces, "without"), count), 0.9 * length);
+    }
+  // A pair that is no interior edge: a boundary edge, two vertices far apart.
+  RemeshOptions bad{0.01, 5, 30.0};
+  for (int e = 0; e < input.num_edges(); ++e)
+    if (input.edge_faces()(e, 1) < 0) {
+      bad.feature_edges = {{input.edges()(e, 0), input.edges()(e, 1)}};
+      break;
+    }
+  EXPECT_THROW(remesh_isotropic(c.cut.vertices, c.cut.faces, bad), InputError);
+  bad.feature_edges = {{pairs.front()[0], pairs.back()[1] == pairs.front()[0] ? pairs.back()[0] : pairs.back()[1]}};
+  EXPECT_THROW(remesh_isotropic(c.cut.vertices, c.cut.faces, bad), InputError);
 }
 
 TEST(IsotropicRemesh, RejectsABadTargetLength) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "host/mesh/bvh.h"
 #include "tests/host/mesh/mesh_fixtures.h"
 
@@ -47,6 +48,46 @@ TEST(MapMeshes, FineMeshOntoCoarseMeshMatchesBruteForce) {
                            fine.vertices().row(fine.faces()(f, 2))).transpose() / 3;
     ASSERT_EQ(map.face_to_sim_face[f], closest_point_brute_force(coarse, centroid).where.face);
   }
+}
+
+TEST(InterpolateVertexField, AffineFieldsAtSurfacePointsAndTheBruteForceClosestPoint) {
+  // A field affine in position is interpolated exactly at points on a flat mesh; on a sphere each
+  // value is the brute-force closest point's barycentric mix of its face's vertex values.
+  const SurfaceMesh grid = test::make(test::annulus(24, 4));
+  const FaceBvh grid_bvh(grid);
+  Eigen::Matrix3d A;
+  A << 1, 2, -3, 0.5, -1, 4, 2, 0, 1;
+  const Vec3 b(0.1, -0.2, 0.3);
+  auto affine = [&](const RowMatX3d& P) {
+    RowMatX3d out = P * A.transpose();
+    out.rowwise() += b.transpose();
+    return out;
+  };
+  const SurfaceMesh fine_grid = test::make(test::annulus(57, 9));
+  const RowMatX3d at = interpolate_vertex_field(grid_bvh, affine(grid.vertices()), fine_grid.vertices());
+  // Points off the coarse annulus (its polygonal rims cut the fine one's round ones) project onto
+  // its border; only those on it are compared.
+  int compared = 0;
+  for (int v = 0; v < fine_grid.num_vertices(); ++v) {
+    const Vec3 p = fine_grid.vertices().row(v).transpose();
+    if (closest_point_brute_force(grid, p).squared_distance > 1e-24) continue;
+    ++compared;
+    EXPECT_LT((at.row(v) - affine(p.transpose())).norm(), 1e-12) << "vertex " << v;
+  }
+  EXPECT_GT(compared, fine_grid.num_vertices() / 2);
+
+  const SurfaceMesh coarse = test::make(test::icosphere(1));
+  const SurfaceMesh fine = test::make(test::icosphere(3));
+  RowMatX3d field(coarse.num_vertices(), 3);
+  for (int v = 0; v < coarse.num_vertices(); ++v) field.row(v) << v, v * v, -2.0 * v;
+  const RowMatX3d on_fine = interpolate_vertex_field(FaceBvh(coarse), field, fine.vertices());
+  for (int v = 0; v < fine.num_vertices(); ++v) {
+    const SurfacePoint w = closest_point_brute_force(coarse, fine.vertices().row(v).transpose()).where;
+    Vec3 expected = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) expected += w.bary[k] * field.row(coarse.faces()(w.face, k)).transpose();
+    ASSERT_LT((on_fine.row(v).transpose() - expected).norm(), 1e-12) << "vertex " << v;
+  }
+  EXPECT_THROW(interpolate_vertex_field(FaceBvh(coarse), RowMatX3d::Zero(2, 3), fine.vertices()), InternalError);
 }
 
 TEST(SimToBaseFaces, PullsValuesThroughTheFaceMap) {

@@ -161,13 +161,23 @@ TEST(ConformingVerification, RichardsonRecoversTheLimitAndTheOrder) {
   EXPECT_NEAR(osc.compliance_error_bar, 0.1, 1e-15);
 }
 
+/// The sheet under self-weight (base edge 0.05, simulation edge 0.1) with one hole of radius 0.2.
+struct SheetWithHole {
+  Scene scene = scene_at("sheet", 0.05, 0.1);
+  SceneMeshes meshes = build_scene_meshes(scene);
+  LoadCase lc = resolve_load_case(scene, meshes.sim);
+  PatternContext ctx{scene, meshes};
+  std::vector<StencilParams> stencils{circle_at(0.1, -0.05, 0.2)};
+};
+
 TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBracketsAFinerRun) {
   // The sheet under self-weight with one hole of radius 0.2: four conforming levels from L = 0.08.
-  const Scene scene = scene_at("sheet", 0.05, 0.1);
-  const SceneMeshes meshes = build_scene_meshes(scene);
-  const LoadCase lc = resolve_load_case(scene, meshes.sim);
-  const PatternContext ctx(scene, meshes);
-  const std::vector<StencilParams> stencils{circle_at(0.1, -0.05, 0.2)};
+  const SheetWithHole sheet;
+  const Scene& scene = sheet.scene;
+  const SceneMeshes& meshes = sheet.meshes;
+  const LoadCase& lc = sheet.lc;
+  const PatternContext& ctx = sheet.ctx;
+  const std::vector<StencilParams>& stencils = sheet.stencils;
   ConformingOptions o;
   o.edge_length = 0.08;
   o.levels = 4;
@@ -256,6 +266,38 @@ TEST(ConformingVerification, RefinementStopsAtTheToleranceAndTheErrorBarBrackets
   const ConformingVerification one = verify_conforming(scene, meshes, lc, ctx, stencils, o);
   EXPECT_TRUE(std::isnan(one.peak_change));
   EXPECT_FALSE(one.peak_converged);
+}
+
+TEST(ConformingVerification, EachLevelStartsFromTheLastOnesSolution) {
+  // The sheet with its hole, three levels from L = 0.08, with and without the warm start (the first
+  // level from the coarse run's solution, each next from the last level's): the same equilibria to
+  // Newton's tolerance, in fewer Newton iterations.
+  const SheetWithHole s;
+  ConformingOptions o;
+  o.edge_length = 0.08;
+  o.levels = 3;
+  const ConformingVerification warm = verify_conforming(s.scene, s.meshes, s.lc, s.ctx, s.stencils, o);
+  o.warm_start = false;
+  const ConformingVerification cold = verify_conforming(s.scene, s.meshes, s.lc, s.ctx, s.stencils, o);
+  ASSERT_EQ(warm.levels.size(), 3u);
+  ASSERT_EQ(cold.levels.size(), 3u);
+  int warm_iterations = 0, cold_iterations = 0;
+  for (size_t k = 0; k < 3; ++k) {
+    const RunQuantities &w = warm.levels[k], &c = cold.levels[k];
+    ASSERT_EQ(w.faces, c.faces) << "level " << k << ": the same mesh";
+    EXPECT_NEAR(w.compliance, c.compliance, 1e-8 * c.compliance) << "level " << k;
+    EXPECT_NEAR(w.max_displacement, c.max_displacement, 1e-7 * c.max_displacement) << "level " << k;
+    EXPECT_TRUE(w.warm_started) << "level " << k;
+    EXPECT_FALSE(c.warm_started);
+    EXPECT_LE(w.newton_iterations, c.newton_iterations) << "level " << k;
+    warm_iterations += w.newton_iterations;
+    cold_iterations += c.newton_iterations;
+  }
+  EXPECT_LT(warm_iterations, cold_iterations);
+  std::cout << fmt::format("Newton iterations by level: from the last solution {} {} {}, from rest {} {} {}\n",
+                           warm.levels[0].newton_iterations, warm.levels[1].newton_iterations,
+                           warm.levels[2].newton_iterations, cold.levels[0].newton_iterations,
+                           cold.levels[1].newton_iterations, cold.levels[2].newton_iterations);
 }
 
 // Grading (isotropic_remesh.h): the plate clamped on one short side and loaded at the other,
@@ -525,6 +567,28 @@ TEST(ConformingVerification, TheChairDesignSolvesOnItsConformingMesh) {
   double worst = 0;
   for (const ShellBend& b : model.bends()) worst = std::max(worst, b.rest.weights.cwiseAbs().maxCoeff() * b.rest.area);
   EXPECT_LT(worst, 1e3);
+  // The clamped runner (feet on z = 0) is outlined on the conforming mesh by the base mesh's own
+  // outline of it, the row where the floor ends (RemeshOptions::feature_edges), not by a line the
+  // level's triangles cut anew: every edge of the level's outline lies on a base outline edge.
+  const LoadCase base_case = resolve_load_case(scene, meshes.base);
+  const std::vector<int> base_outline = support_outline_edges(meshes.base, base_case.fixed);
+  ASSERT_FALSE(base_outline.empty());
+  const LoadCase level_case = resolve_load_case(scene, mesh, &outer, &lc);
+  const std::vector<int> level_outline = support_outline_edges(mesh, level_case.fixed);
+  ASSERT_FALSE(level_outline.empty());
+  auto on_base_outline = [&](const Vec3& p) {
+    for (int e : base_outline) {
+      const Vec3 a = meshes.base.vertices().row(meshes.base.edges()(e, 0)).transpose();
+      const Vec3 b = meshes.base.vertices().row(meshes.base.edges()(e, 1)).transpose();
+      const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      if ((a + t * (b - a) - p).norm() < 1e-9) return true;
+    }
+    return false;
+  };
+  int off = 0;
+  for (int e : level_outline)
+    for (int c = 0; c < 2; ++c) off += !on_base_outline(mesh.vertices().row(mesh.edges()(e, c)).transpose());
+  EXPECT_EQ(off, 0) << "of " << level_outline.size() << " outline edges";
 }
 
 }  // namespace
