@@ -69,18 +69,22 @@ SurfaceMesh conforming_mesh(const CutSurface& cut, double edge_length, int itera
                      fmt::format("conforming mesh (edge length {:.4g} m)", edge_length));
 }
 
-/// W̄ on coarse faces and the comparison fields of `v` (finest level already stored in `v`).
 /// The outlines of the scene's supports on the base mesh (support_outline_edges: a clamped area's
 /// border, an interior line support) as edges of the cut (pairs of cut vertices): the pieces of
 /// those base edges the stencils leave, each an interior edge of the cut whose ends lie on one
 /// outline edge (a base vertex of it, or a vertex the cut made on it, within `snap` m). Every
 /// conforming level keeps them (RemeshOptions::feature_edges), so the supports hold the same region
-/// on each level instead of one outlined anew by each level's triangles.
+/// on each level instead of one outlined anew by each level's triangles. A scene whose selectors
+/// do not resolve on the base mesh gets none (its levels resolve them, and say so, as before).
 std::vector<std::array<int, 2>> support_lines_on_cut(const Scene& scene, const SurfaceMesh& base, const CutSurface& cut,
                                                      double snap) {
-  const LoadCase base_case = resolve_load_case(scene, base);
-  const std::vector<int> outline = support_outline_edges(base, base_case.fixed);
   std::vector<std::array<int, 2>> out;
+  std::vector<int> outline;
+  try {
+    outline = support_outline_edges(base, resolve_load_case(scene, base).fixed);
+  } catch (const InputError&) {
+    return out;
+  }
   if (outline.empty()) return out;
   // The outline's base edges by base vertex, and the segments.
   std::vector<std::vector<int>> at_vertex(size_t(base.num_vertices()));
@@ -123,6 +127,7 @@ std::vector<std::array<int, 2>> support_lines_on_cut(const Scene& scene, const S
   return out;
 }
 
+/// W̄ on coarse faces and the comparison fields of `v` (finest level already stored in `v`).
 void compare_energy_densities(const SurfaceMesh& sim, ConformingVerification& v) {
   const SurfaceMesh& conf = v.conforming_mesh;
   const FaceBvh bvh(sim);
@@ -222,15 +227,17 @@ struct LevelSolve {
   LoadCase load_case;         ///< the supports and loads it was solved under
 };
 
+/// A solved mesh a level's Newton starts from (solve_conforming_level): its displacements.
+struct PreviousLevel {
+  const SurfaceMesh* mesh = nullptr;
+  const RowMatX3d* u = nullptr;
+};
+
 /// Solves the conforming `mesh` (pieces the stencils cut loose are dropped from it first) under the
 /// scene's supports and loads, and recovers its rim with `rim_options`; q gets the run's scalars,
 /// the supports' extent, the rim peak and the interior peak (not the edge length or mesh quality).
 /// With `previous` (the last level's mesh and its displacements), Newton starts from those
 /// displacements carried onto this mesh (interpolate_vertex_field) instead of from rest.
-struct PreviousLevel {
-  const SurfaceMesh* mesh = nullptr;
-  const RowMatX3d* u = nullptr;
-};
 LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scene, const SceneMeshes& meshes,
                                   const LoadCase& load_case, const MechanicsSettings& mechanics,
                                   const NewtonSettings& settings, const RimRecoveryOptions& rim_options,
