@@ -369,18 +369,23 @@ int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const
                   const SegmentTree& outline, EdgeFlags& feature) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   const size_t before = m.number_of_faces(), vertices_before = m.number_of_vertices();
+  // The boundary and feature edges of the selected faces (a feature edge with a selected face on
+  // either side).
   std::vector<Mesh::Edge_index> lines;
-  for (const auto h : m.halfedges()) {
-    const auto f = m.face(m.opposite(h));
-    if (f == Mesh::null_face() || !selected[f.idx()]) continue;
-    if (m.is_border(h) || (feature[m.edge(h)] && m.halfedge(m.edge(h)) == h)) lines.push_back(m.edge(h));
+  for (const auto e : m.edges()) {
+    if (!m.is_border(e) && !feature[e]) continue;
+    bool near = false;
+    for (const auto h : {m.halfedge(e), m.opposite(m.halfedge(e))})
+      near = near || (m.face(h) != Mesh::null_face() && selected[m.face(h).idx()]);
+    if (near) lines.push_back(e);
   }
   PMP::split_long_edges(lines, 4.0 / 3.0 * size, m, CGAL::parameters::edge_is_constrained_map(feature));
   // The new boundary vertices onto the input's outline: where step 1 collapsed a short boundary
   // edge, the edge left is a chord of the outline, and its midpoints would stay off it.
   for (const auto v : m.vertices())
     if (size_t(v.idx()) >= vertices_before && m.is_border(v)) m.point(v) = outline.closest_point(m.point(v));
-  // Splitting only adds faces (after the existing ones); all of them split selected faces.
+  // Splitting only adds faces (after the existing ones): all of them split selected faces, or the
+  // unselected face across a split feature edge, which joins the region.
   std::vector<Mesh::Face_index> region;
   for (const auto f : m.faces())
     if (size_t(f.idx()) >= before || selected[f.idx()]) region.push_back(f);
