@@ -32,6 +32,10 @@ enum class FillStiffness {
 /// r(α) = g(α)/α, where g(α) is the stiffness of a sheet perforated down to fill ratio α relative
 /// to the solid sheet (g(α) = α for the linear rule, so r ≡ 1). Filled in by
 /// solvers/homogenise (calibrate_fill_stiffness) before a shell model is built; plain numbers here.
+/// Nodes of FillStiffnessCurve's concentration by biaxiality: ρ_j = −1 + 2j/(kBiaxialityNodes − 1).
+inline constexpr int kBiaxialityNodes = 9;
+inline constexpr double biaxiality_node(int j) { return -1.0 + 2.0 * j / (kBiaxialityNodes - 1); }
+
 struct FillStiffnessCurve {
   std::vector<double> alpha;     ///< sample fill ratios, strictly increasing, in (0, 1], last = 1
   std::vector<double> membrane;  ///< r_m at each sample (membrane stiffness / (α · solid)); last = 1
@@ -40,6 +44,12 @@ struct FillStiffnessCurve {
   /// (membrane, bending) at each sample, ≥ 1; the last (α = 1) holds the dilute limit. Empty when
   /// not calibrated (solvers/objective/peak_energy_density.h says how they are used).
   std::vector<double> membrane_concentration, bending_concentration;
+  /// K by the state's biaxiality (optional; empty: only the worst state's K above): per sample, K at
+  /// each biaxiality node ρ_j = biaxiality_node(j) — the macroscopic state's principal stresses
+  /// (membrane) or moments (bending) in the ratio (1, ρ), ρ ∈ [−1, 1] the smaller one in magnitude
+  /// over the larger: −1 pure shear, 0 uniaxial, 1 equibiaxial — the largest over the state's
+  /// orientation. kBiaxialityNodes values per sample; the last sample holds the dilute limit.
+  std::vector<std::vector<double>> membrane_concentration_by_biaxiality, bending_concentration_by_biaxiality;
   /// The isotropic split (optional; empty: the scalar rule above scales the whole of each element):
   /// r of the bulk (equibiaxial) and shear (deviatoric) moduli separately, membrane and bending,
   /// each (effective modulus / (α · solid modulus)); last = 1. A perforation softens the two modes

@@ -87,12 +87,19 @@ struct CellOptions {
 /// (circle at α = 0.95, 8 / 16 / 24 edges per radius: membrane uniaxial 7.75 / 8.08 / 8.11,
 /// bending uniaxial 3.04 / 3.17 / 3.28, means over θ).
 ///
+/// Biaxial states (CellStiffness's concentration by biaxiality): principal stresses (moments) (1, ρ)
+/// along θ and θ + 90°, ρ at the kBiaxialityNodes nodes in [−1, 1], θ every 7.5°; each node the
+/// largest over θ. Each state costs a pass over the cell's faces and rim points (the unit cases
+/// are solved once): 432 states, well under the cell solve.
+///
 /// Closed forms (dilute circle, α = 0.99, ν = 0.4; the test StressConcentration.DiluteCircleMatches…):
 ///  - membrane, Kirsch: uniaxial 9, equibiaxial 2/(1 − ν), pure shear 8/(1 + ν);
 ///  - bending, Goodier (Kirchhoff plate, free hole; M_nn = 0 and the Kirchhoff shear vanish at
 ///    the rim, M_nt does not): uniaxial ((5 + 3ν)/(3 + ν))², at the rim where M_tt peaks;
 ///    equibiaxial 2/(1 − ν) (M_tt = 2M); pure shear 16/(3 + ν)², at 45° to the principal axes where
-///    the rim's twist peaks (M_tt peaks at 8(1 + ν)/(3 + ν)² of the far field's W there).
+///    the rim's twist peaks (M_tt peaks at 8(1 + ν)/(3 + ν)² of the far field's W there);
+///    biaxial (1, ρ), ρ ≥ 0: ((1 + ρ) + c(1 − ρ))²/(1 + ρ² − 2νρ), c = 2(1 + ν)/(3 + ν) — largest,
+///    4.30, at ρ = 0.48: the worst bending state is biaxial. Membrane (1, ρ): (3 − ρ)²/(1 + ρ² − 2νρ).
 /// Measured at 10.5 edges per radius (the resolution cap): membrane 8.53, 3.28, 5.38 (−5.2%,
 /// −1.7%, −5.8%); bending 3.25, 3.27, 1.39 (−2.3%, −1.7%, +0.5%). The face-based bending reading it
 /// replaces read 3.99 there (+20%) and 2.88 at α = 0.9 (on 4 edges per radius).
@@ -105,6 +112,9 @@ struct CellOptions {
 /// 8 / 16 / 24). `cutwork verify` leaves out the rim within the fabrication minimum feature of a
 /// corner (physical: 30° within a quarter of it), which the cell cannot do without the design's
 /// stencil size: that is still open.
+/// Angles of the biaxial states of CellStiffness's concentration by biaxiality, over 180°.
+inline constexpr int kBiaxialityAngles = 24;
+
 struct ConcentrationState {
   std::string state;   ///< "uniaxial", "equibiaxial" or "shear"
   double angle = 0;    ///< θ (radians from x; 0 for equibiaxial)
@@ -130,9 +140,15 @@ struct CellStiffness {
   int vertices = 0, faces = 0;       ///< of the patch mesh
   double resolution = 0;             ///< edges per spacing the cell was meshed at (CellOptions)
   /// Stress concentration (see concentration_states): K = peak W / mean W over the cell's material,
-  /// max over the membrane states and over the bending states (1 for a solid cell).
+  /// max over the membrane states and over the bending states, the biaxial ones below included (1
+  /// for a solid cell). In bending the worst is a biaxial state, not one of the named ones.
   double membrane_concentration = 1, bending_concentration = 1;
   std::vector<ConcentrationState> membrane_states, bending_states;
+  /// K by biaxiality (FillStiffnessCurve): at each node ρ_j = biaxiality_node(j), principal stresses
+  /// (moments) (1, ρ_j) along θ and θ + 90°, the largest over θ = 0°, 7.5°, …, 172.5°
+  /// (kBiaxialityAngles); kBiaxialityNodes values each. The node ρ = 0 holds the uniaxial states'
+  /// largest, ρ = 1 the equibiaxial, ρ = −1 pure shear's (on a finer grid of angles than the states').
+  std::vector<double> membrane_concentration_by_biaxiality, bending_concentration_by_biaxiality;
 };
 
 /// The largest hole fraction 1 − α at which `shape` still fits the lattice: its bounding circle

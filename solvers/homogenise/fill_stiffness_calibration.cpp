@@ -21,6 +21,8 @@ struct ShapeCurve {
   std::vector<double> membrane, bending;
   std::vector<double> membrane_bulk, membrane_shear, bending_bulk, bending_shear;  ///< the isotropic split
   std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
+  /// K by biaxiality per sample (kBiaxialityNodes each)
+  std::vector<std::vector<double>> membrane_concentration_by_biaxiality, bending_concentration_by_biaxiality;
   std::vector<double> membrane_anisotropy, bending_anisotropy;  ///< q (the square lattice's)
 };
 
@@ -60,6 +62,8 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
       // The dilute limit: held at the last cut sample (a vanishing hole still concentrates stress).
       c.membrane_concentration.push_back(c.membrane_concentration.empty() ? 1 : c.membrane_concentration.back());
       c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
+      for (auto* K : {&c.membrane_concentration_by_biaxiality, &c.bending_concentration_by_biaxiality})
+        K->push_back(K->empty() ? std::vector<double>(kBiaxialityNodes, 1.0) : K->back());
       continue;
     }
     // Below the lowest fill ratio the lowest cell (K and q held; the ratios lowered after the loop).
@@ -69,6 +73,8 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
                     cell.membrane_shear_factor / w, cell.bending_bulk_factor / w, cell.bending_shear_factor / w});
     c.membrane_concentration.push_back(cell.membrane_concentration);
     c.bending_concentration.push_back(cell.bending_concentration);
+    c.membrane_concentration_by_biaxiality.push_back(cell.membrane_concentration_by_biaxiality);
+    c.bending_concentration_by_biaxiality.push_back(cell.bending_concentration_by_biaxiality);
     c.membrane_anisotropy.push_back(cell.membrane_anisotropy);
     c.bending_anisotropy.push_back(cell.bending_anisotropy);
   }
@@ -164,6 +170,8 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     r->assign(grid.size(), 0.0);
   out.membrane_concentration.assign(grid.size(), 1.0);
   out.bending_concentration.assign(grid.size(), 1.0);
+  out.membrane_concentration_by_biaxiality.assign(grid.size(), std::vector<double>(kBiaxialityNodes, 1.0));
+  out.bending_concentration_by_biaxiality.assign(grid.size(), std::vector<double>(kBiaxialityNodes, 1.0));
   // The hexagonal lattice is isotropic (its cells' q is round-off): no anisotropic part.
   const bool square = options.lattice == CellLattice::Square;
   if (square) {
@@ -203,6 +211,12 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
       // Peaks: the worst shape the design uses (a face's α does not say which shape cut it).
       out.membrane_concentration[k] = std::max(out.membrane_concentration[k], c.membrane_concentration[k]);
       out.bending_concentration[k] = std::max(out.bending_concentration[k], c.bending_concentration[k]);
+      for (int j = 0; j < kBiaxialityNodes; ++j) {
+        double& km = out.membrane_concentration_by_biaxiality[k][size_t(j)];
+        double& kb = out.bending_concentration_by_biaxiality[k][size_t(j)];
+        km = std::max(km, c.membrane_concentration_by_biaxiality[k][size_t(j)]);
+        kb = std::max(kb, c.bending_concentration_by_biaxiality[k][size_t(j)]);
+      }
     }
   }
   // Exactly 1 at α = 1, whatever the rounding of the mean.

@@ -2,7 +2,13 @@
 
 #include "host/core/internal_error.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "host/core/error.h"
 #include "solvers/objective/energy_density.h"
@@ -21,6 +27,26 @@ MonotoneCurve checked_concentration(const std::vector<double>& alpha, const std:
   return MonotoneCurve(alpha, k);
 }
 
+/// One curve in α per biaxiality node; empty for an empty table.
+std::vector<MonotoneCurve> checked_by_biaxiality(const std::vector<double>& alpha,
+                                                 const std::vector<std::vector<double>>& table, const char* what) {
+  std::vector<MonotoneCurve> nodes;
+  if (table.empty()) return nodes;
+  if (table.size() != alpha.size())
+    throw InputError(fmt::format("{} concentration by biaxiality: {} rows for {} fill ratios", what, table.size(),
+                                 alpha.size()));
+  for (const std::vector<double>& row : table)
+    if (row.size() != size_t(kBiaxialityNodes))
+      throw InputError(fmt::format("{} concentration by biaxiality: a row of {} factors, not {}", what, row.size(),
+                                   kBiaxialityNodes));
+  for (int j = 0; j < kBiaxialityNodes; ++j) {
+    std::vector<double> k;
+    for (const std::vector<double>& row : table) k.push_back(row[size_t(j)]);
+    nodes.push_back(checked_concentration(alpha, k, what));
+  }
+  return nodes;
+}
+
 }  // namespace
 
 ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
@@ -29,6 +55,62 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
   m_bending = checked_concentration(c.alpha, c.bending_concentration, "bending");
   m_membrane_ratio = MonotoneCurve(c.alpha, c.membrane);
   m_bending_ratio = MonotoneCurve(c.alpha, c.bending);
+  m_membrane_states = checked_by_biaxiality(c.alpha, c.membrane_concentration_by_biaxiality, "membrane");
+  m_bending_states = checked_by_biaxiality(c.alpha, c.bending_concentration_by_biaxiality, "bending");
+  if (m_membrane_states.empty() != m_bending_states.empty())
+    throw InputError("concentration by biaxiality: membrane and bending tables must come together");
+  if (c.split()) {
+    m_membrane_bulk = MonotoneCurve(c.alpha, c.membrane_bulk);
+    m_membrane_shear = MonotoneCurve(c.alpha, c.membrane_shear);
+    m_bending_bulk = MonotoneCurve(c.alpha, c.bending_bulk);
+    m_bending_shear = MonotoneCurve(c.alpha, c.bending_shear);
+  }
+}
+
+double ConcentrationMap::by_state(const std::vector<MonotoneCurve>& nodes, const MonotoneCurve& worst, double alpha,
+                                  double rho, double* d_alpha, double* d_rho) {
+  if (d_rho) *d_rho = 0;
+  if (nodes.empty()) return apply(worst, alpha, d_alpha);
+  if (d_alpha) *d_alpha = 0;
+  if (alpha >= 1) return 1;
+  // Catmull–Rom over the nodes j − 1 … j + 2 around ρ (clamped to the table), tangents by central
+  // differences, one-sided at the end nodes; linear in the node values, so the α-slope is the same
+  // spline of the nodes' α-slopes.
+  constexpr int n = kBiaxialityNodes;
+  constexpr double h = 2.0 / (n - 1);
+  const double r = std::clamp(rho, -1.0, 1.0);
+  const int j = std::clamp(int((r + 1) / h), 0, n - 2);
+  const double t = std::clamp((r - biaxiality_node(j)) / h, 0.0, 1.0);
+  std::array<double, 4> v{}, dv{};
+  for (int i = 0; i < 4; ++i) v[size_t(i)] = apply(nodes[size_t(std::clamp(j - 1 + i, 0, n - 1))], alpha, &dv[size_t(i)]);
+  const auto tangent = [&](const std::array<double, 4>& y, int i) {  // at node j − 1 + i, i = 1, 2
+    const int node = j - 1 + i;
+    if (node == 0) return y[size_t(i + 1)] - y[size_t(i)];
+    if (node == n - 1) return y[size_t(i)] - y[size_t(i - 1)];
+    return 0.5 * (y[size_t(i + 1)] - y[size_t(i - 1)]);
+  };
+  const double t2 = t * t, t3 = t2 * t;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
+  const auto hermite = [&](const std::array<double, 4>& y) {
+    return h00 * y[1] + h10 * tangent(y, 1) + h01 * y[2] + h11 * tangent(y, 2);
+  };
+  if (d_alpha) *d_alpha = hermite(dv);
+  if (d_rho && rho > -1 && rho < 1) {
+    const double g00 = 6 * t2 - 6 * t, g10 = 3 * t2 - 4 * t + 1, g01 = -g00, g11 = 3 * t2 - 2 * t;
+    *d_rho = (g00 * v[1] + g10 * tangent(v, 1) + g01 * v[2] + g11 * tangent(v, 2)) / h;
+  }
+  return hermite(v);
+}
+
+Eigen::Vector2d ConcentrationMap::split_ratios(bool bending, double alpha, Eigen::Vector2d* slope) const {
+  if (slope) slope->setZero();
+  const MonotoneCurve& bulk = bending ? m_bending_bulk : m_membrane_bulk;
+  const MonotoneCurve& shear = bending ? m_bending_shear : m_membrane_shear;
+  if (bulk.empty() || alpha >= 1) return {1, 1};
+  Eigen::Vector2d d;
+  const Eigen::Vector2d r(bulk(alpha, &d[0]), shear(alpha, &d[1]));
+  if (slope) *slope = d;
+  return r;
 }
 
 double ConcentrationMap::apply(const MonotoneCurve& k, double alpha, double* slope) {
@@ -55,18 +137,130 @@ double ConcentrationMap::ratio(const MonotoneCurve& r, double alpha, double* slo
 
 namespace {
 
-/// W_peak_t = a W_t + b M_t (M_t the membrane part of W_t) at α_t = alpha with blend weight w, and
-/// da/dα, db/dα (the header's rule).
-struct PeakCoefficients {
-  double a = 1, b = 0, da = 0, db = 0;
+/// ρ of one part (the header's rule) from its bulk and shear energies U_K, U_G at unit fill, with
+/// dρ/dα (through the split's ratios) and dρ/dU_K, dρ/dU_G.
+struct Biaxiality {
+  double rho = 0, d_alpha = 0, d_bulk = 0, d_shear = 0;
 };
 
-PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const ConcentrationMap& K, double alpha, double w) {
+Biaxiality biaxiality(double UK, double UG, double cK, double cG, const Eigen::Vector2d& r, const Eigen::Vector2d& dr) {
+  Biaxiality b;
+  const double rootK = std::sqrt(cK * std::max(UK, 0.0)), rootG = std::sqrt(cG * std::max(UG, 0.0));
+  const double P = r[0] * rootK, S = r[1] * rootG, T = P + S;
+  if (!(T > 0)) return b;
+  b.rho = (P - S) / T;
+  // ∂ρ/∂P = 2S/T², ∂ρ/∂S = −2P/T²; ∂P/∂U_K = P/(2 U_K), ∂S/∂U_G = S/(2 U_G).
+  const double T2 = T * T;
+  b.d_alpha = 2 * (S * dr[0] * rootK - P * dr[1] * rootG) / T2;
+  if (UK > 0) b.d_bulk = P * S / (T2 * UK);
+  if (UG > 0) b.d_shear = -P * S / (T2 * UG);
+  return b;
+}
+
+/// A face's two states: its membrane's and its bend's (bend false: no shape-operator bend, the
+/// worst state's K_b applies).
+struct FaceState {
+  Biaxiality membrane, bending;
+  bool bend = false;
+};
+
+/// Index of each face's shape-operator bend, −1 where it has none.
+std::vector<int> bend_of_face(const ShellModel& model) {
+  std::vector<int> bend(size_t(model.num_faces()), -1);
+  for (size_t i = 0; i < model.bends().size(); ++i) bend[size_t(model.bends()[i].face)] = int(i);
+  return bend;
+}
+
+/// The states of every face. With `weights` (#F×2) and `d_positions`, adds
+/// Σ_t weights(t, 0) ∂ρ_t^m/∂x + weights(t, 1) ∂ρ_t^b/∂x to d_positions (all rows, fixed ones too).
+std::vector<FaceState> face_states(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                                   const ConcentrationMap& K, const Eigen::MatrixX2d* weights = nullptr,
+                                   RowMatX3d* d_positions = nullptr) {
+  const int nf = model.num_faces();
+  const double nu = model.material().poisson_ratio;
+  const std::vector<int> bend = bend_of_face(model);
+  const bool gradient = weights && d_positions;
+  const ElementNeed need = gradient ? ElementNeed::Gradient : ElementNeed::Energy;
+  std::vector<FaceState> states(static_cast<size_t>(nf));
+  // Per face the weighted gradient of its ρs over its membrane's 3 and its bend's 6 vertices.
+  std::vector<Eigen::Matrix<double, 9, 1>> gm(gradient ? size_t(nf) : 0);
+  std::vector<Eigen::Matrix<double, 18, 1>> gb(gradient ? size_t(nf) : 0);
+  tbb::parallel_for(0, nf, [&](int t) {
+    FaceState& st = states[size_t(t)];
+    Eigen::Vector2d dr;
+    {
+      const Eigen::Vector2d r = K.split_ratios(false, alpha[t], &dr);
+      double U[2];
+      Eigen::Matrix<double, 9, 1> g[2];
+      int p = 0;
+      for (const FillPart part : {FillPart::Bulk, FillPart::Shear}) {
+        detail::visit_membrane(model, x, t, model.membrane_lame(part), 1.0, need, [&](const ElementLocal<3>& l) {
+          U[p] = l.energy;
+          if (gradient) g[p] = l.gradient;
+        });
+        ++p;
+      }
+      st.membrane = biaxiality(U[0], U[1], 1 / (1 - nu), 1 / (1 + nu), r, dr);
+      if (gradient) gm[size_t(t)] = (*weights)(t, 0) * (st.membrane.d_bulk * g[0] + st.membrane.d_shear * g[1]);
+    }
+    if (bend[size_t(t)] >= 0) {
+      st.bend = true;
+      const Eigen::Vector2d r = K.split_ratios(true, alpha[t], &dr);
+      double U[2];
+      Eigen::Matrix<double, 18, 1> g[2];
+      int p = 0;
+      for (const FillPart part : {FillPart::Bulk, FillPart::Shear}) {
+        detail::visit_bend(model, x, bend[size_t(t)], model.bending_constitutive(part), 1.0, need,
+                           [&](const ElementLocal<6>& l) {
+                             U[p] = l.energy;
+                             if (gradient) g[p] = l.gradient;
+                           });
+        ++p;
+      }
+      st.bending = biaxiality(U[0], U[1], 1 + nu, 1 - nu, r, dr);
+      if (gradient) gb[size_t(t)] = (*weights)(t, 1) * (st.bending.d_bulk * g[0] + st.bending.d_shear * g[1]);
+    }
+  });
+  if (gradient) {
+    const RowMatX3i& F = model.mesh().faces();
+    for (int t = 0; t < nf; ++t) {
+      for (int a = 0; a < 3; ++a) d_positions->row(F(t, a)) += gm[size_t(t)].segment<3>(3 * a).transpose();
+      if (bend[size_t(t)] < 0) continue;
+      const ShellBend& b = model.bends()[size_t(bend[size_t(t)])];
+      for (int a = 0; a < 6; ++a)
+        if (b.v[a] >= 0) d_positions->row(b.v[a]) += gb[size_t(t)].segment<3>(3 * a).transpose();
+    }
+  }
+  return states;
+}
+
+/// W_peak_t = a W_t + b M_t (M_t the membrane part of W_t) at α_t = alpha with blend weight w, and
+/// da/dα, db/dα (the header's rule); by state, the α-derivatives include ρ's, and rho_m, rho_b are
+/// ∂(k_m q_m)/∂ρ^m and ∂(k_b q_b)/∂ρ^b (W_peak = k_b q_b (W − M) + k_m q_m M).
+struct PeakCoefficients {
+  double a = 1, b = 0, da = 0, db = 0, rho_m = 0, rho_b = 0;
+};
+
+PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const ConcentrationMap& K, double alpha, double w,
+                                   const FaceState* state) {
   PeakCoefficients c;
   if (alpha >= 1) return c;
-  double dkm = 0, dkb = 0, dqm = 0, dqb = 0;
-  const double km = 1 + w * (K.membrane(alpha, &dkm) - 1), kb = 1 + w * (K.bending(alpha, &dkb) - 1);
-  dkm *= w, dkb *= w;
+  double dkm = 0, dkb = 0, dqm = 0, dqb = 0, dkm_rho = 0, dkb_rho = 0;
+  double km = 0, kb = 0;
+  if (state) {
+    km = K.membrane(alpha, state->membrane.rho, &dkm, &dkm_rho);
+    dkm += dkm_rho * state->membrane.d_alpha;
+  } else {
+    km = K.membrane(alpha, &dkm);
+  }
+  if (state && state->bend) {
+    kb = K.bending(alpha, state->bending.rho, &dkb, &dkb_rho);
+    dkb += dkb_rho * state->bending.d_alpha;
+  } else {
+    kb = K.bending(alpha, &dkb);
+  }
+  km = 1 + w * (km - 1), kb = 1 + w * (kb - 1);
+  dkm *= w, dkb *= w, dkm_rho *= w, dkb_rho *= w;
   // q: perforated material's mean energy density over the model's (1 where the model's elements
   // are the homogenised ones; the calibrated ratio ρ under the linear rule, whose r is 1).
   double qm = 1, qb = 1;
@@ -75,6 +269,8 @@ PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const Concentratio
   c.da = dkb * qb + kb * dqb;
   c.b = km * qm - c.a;
   c.db = dkm * qm + km * dqm - c.da;
+  c.rho_m = dkm_rho * qm;
+  c.rho_b = dkb_rho * qb;
   return c;
 }
 
@@ -85,14 +281,27 @@ void check_weight(const ShellModel& model, const Eigen::VectorXd* weight) {
 
 }  // namespace
 
+Eigen::MatrixX2d stress_biaxiality(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                                   const ConcentrationMap& K) {
+  const std::vector<FaceState> states = face_states(model, x, alpha, K);
+  Eigen::MatrixX2d rho(model.num_faces(), 2);
+  for (int t = 0; t < model.num_faces(); ++t) {
+    rho(t, 0) = states[size_t(t)].membrane.rho;
+    rho(t, 1) = states[size_t(t)].bend ? states[size_t(t)].bending.rho : std::numeric_limits<double>::quiet_NaN();
+  }
+  return rho;
+}
+
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const ConcentrationMap& K, const Eigen::VectorXd* weight) {
   check_weight(model, weight);
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
+  const std::vector<FaceState> states = K.by_biaxiality() ? face_states(model, x, alpha, K) : std::vector<FaceState>{};
   Eigen::VectorXd peak(model.num_faces());
   for (int t = 0; t < model.num_faces(); ++t) {
-    const PeakCoefficients c = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0);
+    const PeakCoefficients c = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0,
+                                                 states.empty() ? nullptr : &states[size_t(t)]);
     peak[t] = c.a * W[t] + c.b * M[t];
   }
   return peak;
@@ -104,23 +313,38 @@ void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const 
   check_weight(model, weight);
   const int nf = model.num_faces();
   if (c.size() != nf) throw InternalError("peak_energy_density_vjp: the weights c do not match the faces");
+  const bool by_state = K.by_biaxiality();
+  const std::vector<FaceState> states = by_state ? face_states(model, x, alpha, K) : std::vector<FaceState>{};
+  const Eigen::VectorXd W = energy_density(model, x, alpha);
+  const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
   Eigen::VectorXd ca(nf), cb(nf), dca(nf), dcb(nf);
+  Eigen::MatrixX2d c_rho = Eigen::MatrixX2d::Zero(nf, 2);  // c_t ∂W_peak_t/∂ρ_t^m, ∂ρ_t^b
   for (int t = 0; t < nf; ++t) {
-    const PeakCoefficients k = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0);
+    const PeakCoefficients k = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0,
+                                                 by_state ? &states[size_t(t)] : nullptr);
     ca[t] = c[t] * k.a, cb[t] = c[t] * k.b, dca[t] = c[t] * k.da, dcb[t] = c[t] * k.db;
+    c_rho(t, 0) = c[t] * k.rho_m * M[t];
+    c_rho(t, 1) = c[t] * k.rho_b * (W[t] - M[t]);
   }
   // Σ c a W + Σ c b M: through the densities' own vector–Jacobian products, plus the coefficients'
-  // own α-derivatives.
+  // own α-derivatives (ρ's included), plus, by state, the factors' dependence on x through ρ.
   energy_density_vjp(model, x, alpha, ca, d_positions, d_alpha);
   RowMatX3d membrane_x;
   Eigen::VectorXd membrane_alpha;
   energy_density_vjp(model, x, alpha, cb, d_positions ? &membrane_x : nullptr, d_alpha ? &membrane_alpha : nullptr,
                      DensityElements::Membrane);
-  if (d_positions) *d_positions += membrane_x;
+  if (d_positions) {
+    *d_positions += membrane_x;
+    if (by_state) {
+      RowMatX3d state_x = RowMatX3d::Zero(model.num_vertices(), 3);
+      face_states(model, x, alpha, K, &c_rho, &state_x);
+      for (int v = 0; v < model.num_vertices(); ++v)
+        if (model.fixed()[size_t(v)]) state_x.row(v).setZero();
+      *d_positions += state_x;
+    }
+  }
   if (d_alpha) {
     *d_alpha += membrane_alpha;
-    const Eigen::VectorXd W = energy_density(model, x, alpha);
-    const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
     for (int t = 0; t < nf; ++t) (*d_alpha)[t] += dca[t] * W[t] + dcb[t] * M[t];
   }
 }

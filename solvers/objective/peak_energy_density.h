@@ -35,11 +35,33 @@
 /// W_peak stays C¹ where a stencil first enters a face (a jump from 1 to the dilute K there would
 /// stall the line search). Units: W in J/m².
 ///
+/// K by the state (FillStiffnessCurve's concentration by biaxiality, when the calibration carries
+/// it). A hole concentrates a uniaxial stress most (Kirsch: rim 3σ, K = 9) and an equibiaxial one
+/// far less (2σ, K = 2/(1 − ν) = 3.3 at ν = 0.4), so the worst state's K overstates the peak of a
+/// shell whose faces are stretched or bent in two directions. Each part's factor is then read at the
+/// face's own state: K_m(α_t, ρ_t^m), K_b(α_t, ρ_t^b), with ρ the biaxiality of the perforated
+/// material's macroscopic stress (membrane) or moment (bending) — principal values (1, ρ) up to
+/// scale, ρ ∈ [−1, 1]: −1 pure shear, 0 uniaxial, 1 equibiaxial — under the isotropic split:
+///     ρ = (P − S)/(P + S),   P = r_K √(c_K U_K),   S = r_G √(c_G U_G),
+/// U_K, U_G the face's bulk and shear element energies at unit fill (membrane: ((μ + λ)/2) A tr(E)²
+/// and μ A |dev E|²; bending: the shape-operator bend's parts, D A (1 + ν)/4 tr(k)² and
+/// D A (1 − ν)/2 |dev k|²), r_K, r_G the curve's bulk and shear ratios at α_t (1 without the
+/// split), c_K = 1/(1 − ν), c_G = 1/(1 + ν) (membrane) and c_K = 1 + ν, c_G = 1 − ν (bending):
+/// P is the mean principal stress's magnitude and S half the principal difference, up to one
+/// factor. K between the biaxiality nodes: Catmull–Rom (C¹, linear in the nodes' values, which the
+/// PCHIP in α gives with their α-slopes). The orientation of the state against the lattice and the
+/// stencils is not known per face: each node holds the worst over the angles (exact for the
+/// hexagonal lattice of circles, isotropic). Hinge bending has no per-face curvature tensor: its
+/// K_b stays the worst state's. ρ is Lipschitz in the strain, not smooth: at a pure shear or an
+/// equibiaxial state the rim's peak moves between points (a max of two smooth functions), and a
+/// face at exactly tr = 0 or dev = 0 takes the subgradient 0.
+///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
 ///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
 /// with k the blended factors; a = 1, b = 0 at α = 1. The weights w (the cell filter's blend) do not
 /// depend on the stencils, so ∂W_peak/∂α is the α-derivative of a and b plus a ∂W/∂α + b ∂M/∂α
-/// (peak_energy_density_vjp).
+/// (peak_energy_density_vjp); by state, k also depends on x and α through ρ:
+/// ∂W_peak/∂(x, α) gains q_m w ∂K_m/∂ρ M ∂ρ^m + q_b w ∂K_b/∂ρ (W − M) ∂ρ^b.
 #include <Eigen/Core>
 
 #include "host/scene/load_case.h"
@@ -50,8 +72,10 @@ namespace cutwork::solvers {
 
 /// The rule above in a line, for reports.
 inline constexpr const char* kPeakEnergyDensityRule =
-    "W_peak = K_m(alpha) W_membrane + K_b(alpha) W_bending per face, K = peak/mean energy density over a periodic "
-    "cell's material from the cell problems (worst over shapes and stress states; K ramps to 1 over alpha in [0.95, 1] "
+    "W_peak = K_m(alpha, rho_m) W_membrane + K_b(alpha, rho_b) W_bending per face, K = peak/mean energy density over "
+    "a periodic cell's material from the cell problems (worst over shapes and orientations, at the face's biaxiality rho "
+    "of stress and of moment: -1 pure shear, 0 uniaxial, 1 equibiaxial; the worst state's K for hinge bending and "
+    "uncalibrated states; K ramps to 1 over alpha in [0.95, 1] "
     "and is 1 at alpha = 1; blended towards 1 where the cell filter says a face resolves its stencils); max over "
     "material faces";
 /// What reports say instead when the mechanics carries no concentration samples (W_peak null).
@@ -71,9 +95,22 @@ class ConcentrationMap {
   explicit ConcentrationMap(const FillStiffnessCurve& curve);
 
   bool empty() const { return m_membrane.empty(); }
-  /// K_m(α) with the ramp to 1 above (1 for α ≥ 1, and when empty()); dK_m/dα into `slope`.
+  /// True when the curve carries K by biaxiality (membrane and bending).
+  bool by_biaxiality() const { return !m_membrane_states.empty(); }
+  /// The worst state's K_m(α) with the ramp to 1 above (1 for α ≥ 1, and when empty()); dK_m/dα
+  /// into `slope`.
   double membrane(double alpha, double* slope = nullptr) const { return apply(m_membrane, alpha, slope); }
   double bending(double alpha, double* slope = nullptr) const { return apply(m_bending, alpha, slope); }
+  /// K_m(α, ρ) at biaxiality ρ ∈ [−1, 1] (clamped) with the ramp; the worst state's K_m(α) when
+  /// !by_biaxiality(). dK/dα, dK/dρ into the slopes (either may be null).
+  double membrane(double alpha, double rho, double* d_alpha, double* d_rho) const {
+    return by_state(m_membrane_states, m_membrane, alpha, rho, d_alpha, d_rho);
+  }
+  double bending(double alpha, double rho, double* d_alpha, double* d_rho) const {
+    return by_state(m_bending_states, m_bending, alpha, rho, d_alpha, d_rho);
+  }
+  /// r_K(α), r_G(α) of the split (1 each without it, and for α ≥ 1), the α-slopes into `slope`.
+  Eigen::Vector2d split_ratios(bool bending, double alpha, Eigen::Vector2d* slope = nullptr) const;
   /// The calibrated ratios ρ = g/α of the curve the factors came with (1 for α ≥ 1).
   double membrane_ratio(double alpha, double* slope = nullptr) const { return ratio(m_membrane_ratio, alpha, slope); }
   double bending_ratio(double alpha, double* slope = nullptr) const { return ratio(m_bending_ratio, alpha, slope); }
@@ -81,7 +118,11 @@ class ConcentrationMap {
  private:
   static double apply(const MonotoneCurve& k, double alpha, double* slope);
   static double ratio(const MonotoneCurve& r, double alpha, double* slope);
+  static double by_state(const std::vector<MonotoneCurve>& nodes, const MonotoneCurve& worst, double alpha, double rho,
+                         double* d_alpha, double* d_rho);
   MonotoneCurve m_membrane, m_bending, m_membrane_ratio, m_bending_ratio;
+  std::vector<MonotoneCurve> m_membrane_states, m_bending_states;  ///< K at each biaxiality node, in α
+  MonotoneCurve m_membrane_bulk, m_membrane_shear, m_bending_bulk, m_bending_shear;  ///< the split's r
 };
 
 /// W_peak (#F, J/m²) of the rule above at positions x (#V×3) and fill ratios alpha (#F).
@@ -93,6 +134,12 @@ class ConcentrationMap {
 /// Precondition: !K.empty().
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const ConcentrationMap& K, const Eigen::VectorXd* weight = nullptr);
+
+/// Per face the biaxiality ρ (above) of its membrane state (column 0) and of its bending state
+/// (column 1; NaN without a shape-operator bend), #F×2, at fill ratios alpha; 0 for a face without
+/// strain (curvature).
+Eigen::MatrixX2d stress_biaxiality(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
+                                   const ConcentrationMap& K);
 
 /// For weights c (#F): Σ_t c_t ∂W_peak_t/∂x into d_positions (#V×3; rows of fixed vertices zero)
 /// and Σ_t c_t ∂W_peak_t/∂α into d_alpha (#F), at fixed `weight`. Either output may be null. The

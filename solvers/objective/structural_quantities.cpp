@@ -63,6 +63,11 @@ EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3
         s.W_peak_max = s.peak_energy_density[f];
         s.W_peak_max_face = f;
       }
+    if (K.by_biaxiality() && s.W_peak_max_face >= 0) {
+      const Eigen::MatrixX2d rho = stress_biaxiality(model, x, alpha, K);
+      s.W_peak_membrane_biaxiality = rho(s.W_peak_max_face, 0);
+      s.W_peak_bending_biaxiality = rho(s.W_peak_max_face, 1);
+    }
   }
   return s;
 }

@@ -44,6 +44,11 @@ struct EquilibriumScalars {
   /// mechanics carries no concentration samples (mechanics.stiffness other than homogenised).
   double W_peak_max = std::numeric_limits<double>::quiet_NaN();
   int W_peak_max_face = -1;
+  /// The biaxiality ρ (peak_energy_density.h: −1 pure shear, 0 uniaxial, 1 equibiaxial) of the
+  /// membrane stress and of the bending moment at W_peak_max_face, where the concentration factors
+  /// are read by state; NaN otherwise (and ρ_b without a shape-operator bend).
+  double W_peak_membrane_biaxiality = std::numeric_limits<double>::quiet_NaN();
+  double W_peak_bending_biaxiality = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct EquilibriumSummary : EquilibriumScalars {

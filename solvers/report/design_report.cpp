@@ -105,6 +105,8 @@ json design_state_json(const DesignState& d) {
           {"W_max", d.summary.W_max},
           {"W_peak_max", number_or_null(d.summary.W_peak_max)},
           {"W_peak_max_face", d.summary.W_peak_max_face},
+          {"W_peak_biaxiality", {{"membrane", number_or_null(d.summary.W_peak_membrane_biaxiality)},
+                                 {"bending", number_or_null(d.summary.W_peak_bending_biaxiality)}}},
           {"compliance", d.summary.compliance},
           {"strain_energy", d.summary.strain_energy},
           {"max_displacement", d.summary.max_displacement},

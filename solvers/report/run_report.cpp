@@ -97,6 +97,15 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
       r["mechanics"]["stiffness_curve"]["membrane_concentration"] = c.membrane_concentration;
       r["mechanics"]["stiffness_curve"]["bending_concentration"] = c.bending_concentration;
     }
+    // By the state's biaxiality ρ (rows: the samples; columns: ρ = −1 … 1).
+    if (!c.membrane_concentration_by_biaxiality.empty()) {
+      nlohmann::json& j = r["mechanics"]["stiffness_curve"];
+      std::vector<double> nodes;
+      for (int k = 0; k < kBiaxialityNodes; ++k) nodes.push_back(biaxiality_node(k));
+      j["biaxiality"] = nodes;
+      j["membrane_concentration_by_biaxiality"] = c.membrane_concentration_by_biaxiality;
+      j["bending_concentration_by_biaxiality"] = c.bending_concentration_by_biaxiality;
+    }
     // Each shape's weight in the curve (its share of the run's stencils by count), by name.
     if (!c.shape_weights.empty()) {
       const StencilLibrary shapes = scene_stencil_library(scene);

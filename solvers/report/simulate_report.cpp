@@ -22,6 +22,9 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
       {"W_max_face", summary.W_max_face},
       {"W_peak_max", number_or_null(summary.W_peak_max)},
       {"W_peak_max_face", summary.W_peak_max_face},
+      // ρ of the stress and the moment at that face (−1 pure shear, 0 uniaxial, 1 equibiaxial).
+      {"W_peak_biaxiality", {{"membrane", number_or_null(summary.W_peak_membrane_biaxiality)},
+                             {"bending", number_or_null(summary.W_peak_bending_biaxiality)}}},
       {"W_peak_rule", std::isfinite(summary.W_peak_max)
                           ? nlohmann::json(kPeakEnergyDensityRule)
                           : nlohmann::json(kPeakEnergyDensityAbsent)},

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/scene/load_case.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {
@@ -165,6 +166,18 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
     EXPECT_GT(curve["membrane_concentration"][k].get<double>(), 1.5);
     EXPECT_GT(curve["bending_concentration"][k].get<double>(), 1.5);
   }
+  // And by biaxiality: a row per sample over the nodes ρ = −1 … 1, none above the worst state's.
+  ASSERT_EQ(curve["biaxiality"].size(), size_t(kBiaxialityNodes));
+  EXPECT_EQ(curve["biaxiality"][0], -1.0);
+  EXPECT_EQ(curve["biaxiality"][kBiaxialityNodes - 1], 1.0);
+  ASSERT_EQ(curve["membrane_concentration_by_biaxiality"].size(), n);
+  ASSERT_EQ(curve["bending_concentration_by_biaxiality"].size(), n);
+  for (size_t k = 0; k < n; ++k)
+    for (const char* part : {"membrane", "bending"}) {
+      const auto& row = curve[std::string(part) + "_concentration_by_biaxiality"][k];
+      ASSERT_EQ(row.size(), size_t(kBiaxialityNodes));
+      for (const auto& v : row) EXPECT_LE(v.get<double>(), curve[std::string(part) + "_concentration"][k].get<double>());
+    }
   // The peak measure's threshold is reported with its measure.
   EXPECT_EQ(design["structure"]["measure"], "mean");
 
@@ -190,7 +203,15 @@ TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   const double wp_design = design["structure"]["W_peak_max_final"], wp_sim = hom["equilibrium"]["W_peak_max"];
   EXPECT_NEAR(wp_sim, wp_design, 1e-6 * wp_design);
   EXPECT_GT(wp_sim, w_sim);
+  // The state the factors were read at, at the W_peak face: ρ in [−1, 1].
+  for (const char* part : {"membrane", "bending"}) {
+    const double rho = hom["equilibrium"]["W_peak_biaxiality"][part];
+    EXPECT_GE(rho, -1.0) << part;
+    EXPECT_LE(rho, 1.0) << part;
+    EXPECT_NEAR(rho, design["equilibrium"]["W_peak_biaxiality"][part].get<double>(), 1e-6) << part;
+  }
   EXPECT_TRUE(lin["equilibrium"]["W_peak_max"].is_null());
+  EXPECT_TRUE(lin["equilibrium"]["W_peak_biaxiality"]["membrane"].is_null());
   EXPECT_EQ(lin["equilibrium"]["W_peak_max_face"], -1);
   // The narrow ligaments' estimates (solvers/objective/ligament_peak.h): the design's and the
   // simulation's are the same (the same stencils, cut and W_peak), each at least its face's W_peak;

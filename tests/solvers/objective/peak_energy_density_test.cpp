@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include "host/core/error.h"
@@ -25,11 +26,33 @@ FillStiffnessCurve with_concentration(FillStiffnessCurve c, std::vector<double> 
   return c;
 }
 
-/// The fixture's shell with concentration samples (K_b ≠ K_m, so that mixing them up shows).
-ShellModel concentrated(const test::CapFixture& fx) {
+/// Tables of K by biaxiality made from the worst states' samples: K(ρ) = 1 + (K − 1)(0.8 + 0.1ρ −
+/// 0.15ρ²), lowest at pure shear, not symmetric in ρ, and ≥ 1.
+FillStiffnessCurve with_biaxiality(FillStiffnessCurve c) {
+  const auto table = [](const std::vector<double>& worst) {
+    std::vector<std::vector<double>> t;
+    for (const double k : worst) {
+      std::vector<double> row;
+      for (int j = 0; j < kBiaxialityNodes; ++j) {
+        const double r = biaxiality_node(j);
+        row.push_back(1 + (k - 1) * (0.8 + 0.1 * r - 0.15 * r * r));
+      }
+      t.push_back(row);
+    }
+    return t;
+  };
+  c.membrane_concentration_by_biaxiality = table(c.membrane_concentration);
+  c.bending_concentration_by_biaxiality = table(c.bending_concentration);
+  return c;
+}
+
+/// The fixture's shell with concentration samples (K_b ≠ K_m, so that mixing them up shows), and
+/// with `by_state` their tables by biaxiality.
+ShellModel concentrated(const test::CapFixture& fx, bool by_state = false) {
   MechanicsSettings mech = fx.model->mechanics();
   mech.stiffness_curve = with_concentration(mech.stiffness_curve, {3.1, 2.7, 2.4, 2.2, 2.05, 2.0},
                                             {1.9, 1.8, 1.7, 1.6, 1.5, 1.45});
+  if (by_state) mech.stiffness_curve = with_biaxiality(mech.stiffness_curve);
   return ShellModel(fx.mesh, test::pa12(), fx.lc, mech);
 }
 
@@ -155,7 +178,8 @@ TEST(PeakEnergyDensity, ConcentrationRampsToOneNearTheUncutFaceWithAContinuousSl
   const FillStiffnessCurve base = test::test_stiffness_curve();  // α = 0.3 0.45 0.6 0.75 0.9 1
   const ConcentrationMap K(with_concentration(base, {3.1, 2.7, 2.4, 2.2, 2.05, 2.0}, {1.9, 1.8, 1.7, 1.6, 1.5, 1.45}));
   const double d = kConcentrationRamp;
-  for (auto k : {&ConcentrationMap::membrane, &ConcentrationMap::bending}) {
+  using Factor = double (ConcentrationMap::*)(double, double*) const;
+  for (Factor k : {static_cast<Factor>(&ConcentrationMap::membrane), static_cast<Factor>(&ConcentrationMap::bending)}) {
     auto value = [&](double a) { return (K.*k)(a, nullptr); };
     EXPECT_NEAR(value(1 - 1e-12), 1.0, 1e-9);
     EXPECT_EQ(value(1.0), 1.0);
@@ -185,15 +209,20 @@ TEST(PeakEnergyDensity, ConcentrationRampsToOneNearTheUncutFaceWithAContinuousSl
 }
 
 // Σ c_t W_peak_t: its gradients in x and α (at fixed blend weights) against central differences,
-// with fill ratios across the samples, between them and in the ramp, for both bending models.
+// with fill ratios across the samples, between them and in the ramp, for both bending models, with
+// the worst state's K and with K by the faces' biaxiality (whose ρ moves with x and, through the
+// split's ratios, with α).
 TEST(PeakEnergyDensity, VectorJacobianProductsMatchCentralDifferences) {
+  for (bool by_state : {false, true})
   for (bool square : {false, true})
   for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
     SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
     SCOPED_TRACE(square ? "square lattice" : "hexagonal lattice");
+    SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
     test::CapFixture fx(61, bending, FillStiffness::Homogenised, square);
-    const ShellModel model = concentrated(fx);
+    const ShellModel model = concentrated(fx, by_state);
     const ConcentrationMap K(model.mechanics().stiffness_curve);
+    ASSERT_EQ(K.by_biaxiality(), by_state);
     const RowMatX3d x = fx.perturbed(62);
     Eigen::VectorXd alpha = fx.alpha;
     const double ramp[] = {0.955, 0.97, 0.985, 0.994};
@@ -278,6 +307,131 @@ TEST(PeakEnergyDensity, RejectsMalformedConcentrationSamples) {
   EXPECT_THROW(ConcentrationMap(with_concentration(base, ok, {1.5, 1.5})), InputError);
   EXPECT_TRUE(ConcentrationMap(base).empty());
   EXPECT_EQ(ConcentrationMap().membrane(0.4), 1.0);
+  // Tables by biaxiality: a short row, a row too many, a factor below 1, one part without the other.
+  const FillStiffnessCurve good = with_biaxiality(with_concentration(base, ok, ok));
+  EXPECT_TRUE(ConcentrationMap(good).by_biaxiality());
+  FillStiffnessCurve bad = good;
+  bad.membrane_concentration_by_biaxiality[1].pop_back();
+  EXPECT_THROW(ConcentrationMap{bad}, InputError);
+  bad = good;
+  bad.bending_concentration_by_biaxiality.push_back(bad.bending_concentration_by_biaxiality.back());
+  EXPECT_THROW(ConcentrationMap{bad}, InputError);
+  bad = good;
+  bad.membrane_concentration_by_biaxiality[2][3] = 0.8;
+  EXPECT_THROW(ConcentrationMap{bad}, InputError);
+  bad = good;
+  bad.bending_concentration_by_biaxiality.clear();
+  EXPECT_THROW(ConcentrationMap{bad}, InputError);
+}
+
+// K(α, ρ) by biaxiality: the node values at the nodes (sample α: the samples themselves), 1 at
+// α = 1, C¹ in ρ (Catmull–Rom) with both slopes the derivatives of the value, and the worst
+// state's K where the curve has no table.
+TEST(PeakEnergyDensity, ConcentrationByBiaxialityInterpolatesTheNodesWithExactSlopes) {
+  const FillStiffnessCurve base = test::test_stiffness_curve();  // α = 0.3 0.45 0.6 0.75 0.9 1
+  const FillStiffnessCurve curve =
+      with_biaxiality(with_concentration(base, {3.1, 2.7, 2.4, 2.2, 2.05, 2.0}, {1.9, 1.8, 1.7, 1.6, 1.5, 1.45}));
+  const ConcentrationMap K(curve);
+  for (size_t s = 0; s + 1 < base.alpha.size(); ++s)
+    for (int j = 0; j < kBiaxialityNodes; ++j) {
+      EXPECT_NEAR(K.membrane(base.alpha[s], biaxiality_node(j), nullptr, nullptr),
+                  curve.membrane_concentration_by_biaxiality[s][size_t(j)], 1e-13);
+      EXPECT_NEAR(K.bending(base.alpha[s], biaxiality_node(j), nullptr, nullptr),
+                  curve.bending_concentration_by_biaxiality[s][size_t(j)], 1e-13);
+    }
+  EXPECT_EQ(K.membrane(1.0, 0.3, nullptr, nullptr), 1.0);
+  const double h = 1e-6;
+  for (double a : {0.33, 0.52, 0.8, 0.97})
+    for (double r : {-0.999, -0.8, -0.37, 0.0, 0.1, 0.5, 0.77, 0.999}) {
+      double da = 0, dr = 0;
+      const double k = K.membrane(a, r, &da, &dr);
+      EXPECT_GE(k, 1.0);
+      const auto at = [&](double aa, double rr) { return K.membrane(aa, rr, nullptr, nullptr); };
+      EXPECT_NEAR(da, (at(a + h, r) - at(a - h, r)) / (2 * h), 1e-5 * std::max(1.0, std::abs(da))) << a << " " << r;
+      EXPECT_NEAR(dr, (at(a, r + h) - at(a, r - h)) / (2 * h), 1e-5 * std::max(1.0, std::abs(dr))) << a << " " << r;
+    }
+  // C¹ across a node: the ρ-slopes on both sides agree.
+  for (int j = 1; j + 1 < kBiaxialityNodes; ++j) {
+    double below = 0, above = 0;
+    K.bending(0.52, biaxiality_node(j) - 1e-10, nullptr, &below);
+    K.bending(0.52, biaxiality_node(j) + 1e-10, nullptr, &above);
+    EXPECT_NEAR(below, above, 1e-6 * std::max(1.0, std::abs(below))) << "node " << j;
+  }
+  // Without tables: the worst state's K, and no ρ-slope.
+  const ConcentrationMap worst(with_concentration(base, {3.1, 2.7, 2.4, 2.2, 2.05, 2.0}, {1.9, 1.8, 1.7, 1.6, 1.5, 1.45}));
+  double dr = 1;
+  EXPECT_EQ(worst.membrane(0.52, -0.4, nullptr, &dr), worst.membrane(0.52));
+  EXPECT_EQ(dr, 0.0);
+}
+
+// The biaxiality ρ of stress and moment: a flat plate in a uniform Green strain E (x = F X with
+// F = √(I + 2E) exactly) whose perforated-material stress has principal values (1, ρ) along θ reads
+// ρ on every face; bent into w = ½ Xᵀ H X whose moments have principal values (1, ρ), every
+// interior face (a full patch: the quadratic is reproduced exactly, and k = n_z H scales both
+// principal curvatures alike) reads ρ. The perforated material's stress uses the split's bulk and
+// shear ratios at the face's α (with ratios 1, the solid's: the two differ, so using the wrong
+// one shows). W_peak of the membrane state is K_m(α, ρ) W.
+TEST(PeakEnergyDensity, StressBiaxialityReadsThePrincipalRatioOfUniformStates) {
+  const SurfaceMesh mesh = test::grid_rectangle(0.4, 0.3, 8, 6);
+  LoadCase lc;
+  lc.fixed.assign(mesh.num_vertices(), false);
+  lc.clamped.assign(mesh.num_vertices(), false);
+  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() < 1e-9; })) lc.fixed[v] = lc.clamped[v] = true;
+  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() > 0.4 - 1e-9; })) lc.forces(v, 2) = 1;
+  MechanicsSettings mech;
+  mech.stiffness = FillStiffness::Homogenised;
+  mech.stiffness_curve =
+      with_biaxiality(with_concentration(test::test_stiffness_curve(), {3.1, 2.7, 2.4, 2.2, 2.05, 2.0},
+                                         {1.9, 1.8, 1.7, 1.6, 1.5, 1.45}));
+  const ShellModel model(mesh, test::pa12(), lc, mech);
+  const ConcentrationMap K(model.mechanics().stiffness_curve);
+  const Material& m = model.material();
+  const double nu = m.poisson_ratio, E = m.youngs_modulus, h = m.thickness;
+  const double kappa = E * h / (2 * (1 - nu)), mu = E * h / (2 * (1 + nu));  // membrane bulk and shear moduli
+  const double D = E * h * h * h / (12 * (1 - nu * nu));
+  const std::vector<int> interior = [&] {
+    std::vector<int> faces;
+    for (const ShellBend& b : model.bends())
+      if (b.v[3] >= 0 && b.v[4] >= 0 && b.v[5] >= 0) faces.push_back(b.face);
+    return faces;
+  }();
+  ASSERT_GT(interior.size(), 20u);
+  for (const double a : {0.6, 1.0})
+    for (const double rho : {-1.0, -0.6, 0.0, 0.35, 1.0})
+      for (const double theta : {0.0, 0.5}) {
+        SCOPED_TRACE(::testing::Message() << "alpha " << a << ", rho " << rho << ", theta " << theta);
+        const Eigen::VectorXd alpha = Eigen::VectorXd::Constant(mesh.num_faces(), a);
+        const Eigen::Vector2d rm = K.split_ratios(false, a), rb = K.split_ratios(true, a);
+        const Eigen::Vector2d n(std::cos(theta), std::sin(theta)), t(-n.y(), n.x());
+        const Eigen::Matrix2d sigma = n * n.transpose() + rho * t * t.transpose();  // stress or moment
+        const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
+        const Eigen::Matrix2d dev = sigma - 0.5 * sigma.trace() * I;
+        // Membrane: E = tr σ/(4κ*) I + dev σ/(2μ*), small (1e-4).
+        const Eigen::Matrix2d strain = 1e-4 * (sigma.trace() / (4 * kappa * rm[0]) * I + dev / (2 * mu * rm[1])) * E * h;
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(I + 2 * strain);
+        const Eigen::Matrix2d F = eig.operatorSqrt();
+        RowMatX3d x = mesh.vertices();
+        for (int v = 0; v < x.rows(); ++v) x.row(v).head<2>() = (F * x.row(v).head<2>().transpose()).transpose();
+        const Eigen::MatrixX2d b = stress_biaxiality(model, x, alpha, K);
+        const Eigen::VectorXd W = energy_density(model, x, alpha), P = peak_energy_density(model, x, alpha, K);
+        // Tolerances 1e-7: at ρ = ±1 one part's energy is round-off (1e-16 of the other's) and ρ
+        // reads its square root.
+        for (int f = 0; f < mesh.num_faces(); ++f) {
+          EXPECT_NEAR(b(f, 0), rho, 1e-7) << "membrane, face " << f;
+          const double k = K.membrane(a, rho, nullptr, nullptr);
+          EXPECT_NEAR(P[f], k * W[f], 1e-7 * k * W[f]) << "face " << f;
+        }
+        // Bending: curvature H = tr M/(2 D (1 + ν) r_K) I + dev M/(D (1 − ν) r_G), w small.
+        const Eigen::Matrix2d H = 1e-3 * (sigma.trace() / (2 * D * (1 + nu) * rb[0]) * I + dev / (D * (1 - nu) * rb[1])) * D;
+        RowMatX3d y = mesh.vertices();
+        for (int v = 0; v < y.rows(); ++v) {
+          const Eigen::Vector2d p = y.row(v).head<2>().transpose() - Eigen::Vector2d(0.2, 0.15);
+          y(v, 2) = 0.5 * p.dot(H * p);
+        }
+        const Eigen::MatrixX2d c = stress_biaxiality(model, y, alpha, K);
+        for (const int f : interior) EXPECT_NEAR(c(f, 1), rho, 1e-7) << "bending, face " << f;
+      }
 }
 
 }  // namespace
