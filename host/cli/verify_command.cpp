@@ -64,6 +64,8 @@ json run_json(const solvers::RunQuantities& q) {
           {"W_max_face", q.W_max_face},
           {"W_peak_max", number_or_null(q.W_peak_max)},
           {"W_peak_max_face", q.W_peak_max_face},
+          {"W_peak_biaxiality", {{"membrane", number_or_null(q.W_peak_membrane_biaxiality)},
+                                 {"bending", number_or_null(q.W_peak_bending_biaxiality)}}},
           {"material_area", q.material_area},
           {"load_total", {q.load_total.x(), q.load_total.y(), q.load_total.z()}},
           {"newton_iterations", q.newton_iterations},

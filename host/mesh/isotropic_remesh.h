@@ -93,7 +93,7 @@ struct RemeshOptions {
   /// the boundary, never flipped, collapsed or moved, so the output has a polyline of edges along
   /// each (the conforming verification's support outlines, scene.h support_outline_edges). Their
   /// vertices are kept like corners; a pair that is not an input edge is an InputError.
-  std::vector<std::array<int, 2>> feature_edges;
+  std::vector<std::array<int, 2>> feature_edges{};
 };
 
 struct RemeshedMesh {

@@ -53,7 +53,8 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   EXPECT_EQ(report["stencils"], 1);
   for (const char* key : {"coarse", "conforming", "convergence", "comparison", "options", "units", "timings"})
     EXPECT_TRUE(report.contains(key)) << key;
-  for (const char* key : {"compliance", "strain_energy", "max_displacement", "W_max", "material_area", "load_total"})
+  for (const char* key : {"compliance", "strain_energy", "max_displacement", "W_max", "W_peak_biaxiality", "material_area",
+                          "load_total"})
     EXPECT_TRUE(report["coarse"].contains(key)) << key;
   const auto& c = report["comparison"];
   for (const char* key : {"compliance_ratio", "strain_energy_ratio", "max_displacement_ratio", "W_max_ratio",

@@ -133,8 +133,11 @@ TEST(Equilibrium, StartsFromACoarserMeshsSolution) {
   const EquilibriumStats restarted = far_solver.solve(ones);
   EXPECT_TRUE(restarted.converged);
   EXPECT_LT((far_solver.positions() - cold_solver.positions()).cwiseAbs().maxCoeff(), 1e-8 * w);
-  for (int v = 0; v < fine.num_vertices(); ++v)
-    if (fine_plate.lc.fixed[size_t(v)]) EXPECT_EQ(far_solver.positions().row(v), X.row(v)) << "vertex " << v;
+  for (int v = 0; v < fine.num_vertices(); ++v) {
+    if (fine_plate.lc.fixed[size_t(v)]) {
+      EXPECT_EQ(far_solver.positions().row(v), X.row(v)) << "vertex " << v;
+    }
+  }
 
   EXPECT_THROW(warm_solver.start_from(RowMatX3d::Zero(3, 3)), InternalError);
 }
