@@ -158,10 +158,13 @@ Biaxiality biaxiality(double UK, double UG, double cK, double cG, const Eigen::V
 }
 
 /// A face's two states: its membrane's and its bend's (bend false: no shape-operator bend, the
-/// worst state's K_b applies).
+/// worst state's K_b applies), and, when asked for, the gradients of their ρ over the membrane's
+/// 3 and the bend's 6 vertices (the bend's slots across a free or clamped edge zero).
 struct FaceState {
   Biaxiality membrane, bending;
   bool bend = false;
+  Eigen::Matrix<double, 9, 1> membrane_gradient = Eigen::Matrix<double, 9, 1>::Zero();
+  Eigen::Matrix<double, 18, 1> bending_gradient = Eigen::Matrix<double, 18, 1>::Zero();
 };
 
 /// Index of each face's shape-operator bend, −1 where it has none.
@@ -171,20 +174,14 @@ std::vector<int> bend_of_face(const ShellModel& model) {
   return bend;
 }
 
-/// The states of every face. With `weights` (#F×2) and `d_positions`, adds
-/// Σ_t weights(t, 0) ∂ρ_t^m/∂x + weights(t, 1) ∂ρ_t^b/∂x to d_positions (all rows, fixed ones too).
+/// The states of every face, with the gradients of their ρ when `gradients`.
 std::vector<FaceState> face_states(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                   const ConcentrationMap& K, const Eigen::MatrixX2d* weights = nullptr,
-                                   RowMatX3d* d_positions = nullptr) {
+                                   const ConcentrationMap& K, bool gradients = false) {
   const int nf = model.num_faces();
   const double nu = model.material().poisson_ratio;
   const std::vector<int> bend = bend_of_face(model);
-  const bool gradient = weights && d_positions;
-  const ElementNeed need = gradient ? ElementNeed::Gradient : ElementNeed::Energy;
+  const ElementNeed need = gradients ? ElementNeed::Gradient : ElementNeed::Energy;
   std::vector<FaceState> states(static_cast<size_t>(nf));
-  // Per face the weighted gradient of its ρs over its membrane's 3 and its bend's 6 vertices.
-  std::vector<Eigen::Matrix<double, 9, 1>> gm(gradient ? size_t(nf) : 0);
-  std::vector<Eigen::Matrix<double, 18, 1>> gb(gradient ? size_t(nf) : 0);
   tbb::parallel_for(0, nf, [&](int t) {
     FaceState& st = states[size_t(t)];
     Eigen::Vector2d dr;
@@ -196,12 +193,12 @@ std::vector<FaceState> face_states(const ShellModel& model, const RowMatX3d& x, 
       for (const FillPart part : {FillPart::Bulk, FillPart::Shear}) {
         detail::visit_membrane(model, x, t, model.membrane_lame(part), 1.0, need, [&](const ElementLocal<3>& l) {
           U[p] = l.energy;
-          if (gradient) g[p] = l.gradient;
+          if (gradients) g[p] = l.gradient;
         });
         ++p;
       }
       st.membrane = biaxiality(U[0], U[1], 1 / (1 - nu), 1 / (1 + nu), r, dr);
-      if (gradient) gm[size_t(t)] = (*weights)(t, 0) * (st.membrane.d_bulk * g[0] + st.membrane.d_shear * g[1]);
+      if (gradients) st.membrane_gradient = st.membrane.d_bulk * g[0] + st.membrane.d_shear * g[1];
     }
     if (bend[size_t(t)] >= 0) {
       st.bend = true;
@@ -213,25 +210,35 @@ std::vector<FaceState> face_states(const ShellModel& model, const RowMatX3d& x, 
         detail::visit_bend(model, x, bend[size_t(t)], model.bending_constitutive(part), 1.0, need,
                            [&](const ElementLocal<6>& l) {
                              U[p] = l.energy;
-                             if (gradient) g[p] = l.gradient;
+                             if (gradients) g[p] = l.gradient;
                            });
         ++p;
       }
       st.bending = biaxiality(U[0], U[1], 1 + nu, 1 - nu, r, dr);
-      if (gradient) gb[size_t(t)] = (*weights)(t, 1) * (st.bending.d_bulk * g[0] + st.bending.d_shear * g[1]);
+      if (gradients) st.bending_gradient = st.bending.d_bulk * g[0] + st.bending.d_shear * g[1];
     }
   });
-  if (gradient) {
-    const RowMatX3i& F = model.mesh().faces();
-    for (int t = 0; t < nf; ++t) {
-      for (int a = 0; a < 3; ++a) d_positions->row(F(t, a)) += gm[size_t(t)].segment<3>(3 * a).transpose();
-      if (bend[size_t(t)] < 0) continue;
-      const ShellBend& b = model.bends()[size_t(bend[size_t(t)])];
-      for (int a = 0; a < 6; ++a)
-        if (b.v[a] >= 0) d_positions->row(b.v[a]) += gb[size_t(t)].segment<3>(3 * a).transpose();
-    }
-  }
   return states;
+}
+
+/// Σ_t weights(t, 0) ∂ρ_t^m/∂x + weights(t, 1) ∂ρ_t^b/∂x (#V×3; rows of fixed vertices zero) from
+/// states with gradients.
+RowMatX3d scatter_state_gradients(const ShellModel& model, const std::vector<FaceState>& states,
+                                  const Eigen::MatrixX2d& weights) {
+  RowMatX3d out = RowMatX3d::Zero(model.num_vertices(), 3);
+  const RowMatX3i& F = model.mesh().faces();
+  const std::vector<int> bend = bend_of_face(model);
+  for (int t = 0; t < model.num_faces(); ++t) {
+    const FaceState& st = states[size_t(t)];
+    for (int a = 0; a < 3; ++a) out.row(F(t, a)) += weights(t, 0) * st.membrane_gradient.segment<3>(3 * a).transpose();
+    if (!st.bend) continue;
+    const ShellBend& b = model.bends()[size_t(bend[size_t(t)])];
+    for (int a = 0; a < 6; ++a)
+      if (b.v[a] >= 0) out.row(b.v[a]) += weights(t, 1) * st.bending_gradient.segment<3>(3 * a).transpose();
+  }
+  for (int v = 0; v < model.num_vertices(); ++v)
+    if (model.fixed()[size_t(v)]) out.row(v).setZero();
+  return out;
 }
 
 /// W_peak_t = a W_t + b M_t (M_t the membrane part of W_t) at α_t = alpha with blend weight w, and
@@ -314,7 +321,8 @@ void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const 
   const int nf = model.num_faces();
   if (c.size() != nf) throw InternalError("peak_energy_density_vjp: the weights c do not match the faces");
   const bool by_state = K.by_biaxiality();
-  const std::vector<FaceState> states = by_state ? face_states(model, x, alpha, K) : std::vector<FaceState>{};
+  const std::vector<FaceState> states =
+      by_state ? face_states(model, x, alpha, K, d_positions != nullptr) : std::vector<FaceState>{};
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
   Eigen::VectorXd ca(nf), cb(nf), dca(nf), dcb(nf);
@@ -335,13 +343,7 @@ void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const 
                      DensityElements::Membrane);
   if (d_positions) {
     *d_positions += membrane_x;
-    if (by_state) {
-      RowMatX3d state_x = RowMatX3d::Zero(model.num_vertices(), 3);
-      face_states(model, x, alpha, K, &c_rho, &state_x);
-      for (int v = 0; v < model.num_vertices(); ++v)
-        if (model.fixed()[size_t(v)]) state_x.row(v).setZero();
-      *d_positions += state_x;
-    }
+    if (by_state) *d_positions += scatter_state_gradients(model, states, c_rho);
   }
   if (d_alpha) {
     *d_alpha += membrane_alpha;

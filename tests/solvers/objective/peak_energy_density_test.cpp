@@ -26,6 +26,18 @@ FillStiffnessCurve with_concentration(FillStiffnessCurve c, std::vector<double> 
   return c;
 }
 
+/// A flat plate of length 0.4 m along x clamped at x = 0, a unit force along axis `axis` at each
+/// vertex of its far end.
+LoadCase cantilever(const SurfaceMesh& mesh, int axis) {
+  LoadCase lc;
+  lc.fixed.assign(mesh.num_vertices(), false);
+  lc.clamped.assign(mesh.num_vertices(), false);
+  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() < 1e-9; })) lc.fixed[v] = lc.clamped[v] = true;
+  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() > 0.4 - 1e-9; })) lc.forces(v, axis) = 1;
+  return lc;
+}
+
 /// Tables of K by biaxiality made from the worst states' samples: K(ρ) = 1 + (K − 1)(0.8 + 0.1ρ −
 /// 0.15ρ²), lowest at pure shear, not symmetric in ρ, and ≥ 1.
 FillStiffnessCurve with_biaxiality(FillStiffnessCurve c) {
@@ -91,12 +103,7 @@ TEST(PeakEnergyDensity, UnitConcentrationAndUnitRatiosGiveTheMeanDensityUnderThe
 // K_m so that mixing them up shows.
 TEST(PeakEnergyDensity, UniformMembraneStateScalesByTheMembraneConcentration) {
   const SurfaceMesh mesh = test::grid_rectangle(0.4, 0.3, 6, 5);
-  LoadCase lc;
-  lc.fixed.assign(mesh.num_vertices(), false);
-  lc.clamped.assign(mesh.num_vertices(), false);
-  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() < 1e-9; })) lc.fixed[v] = lc.clamped[v] = true;
-  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
-  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() > 0.4 - 1e-9; })) lc.forces(v, 0) = 1;
+  const LoadCase lc = cantilever(mesh, 0);
   MechanicsSettings mech;
   mech.stiffness = FillStiffness::Homogenised;
   const FillStiffnessCurve base = test::test_stiffness_curve();  // α = 0.3 0.45 0.6 0.75 0.9 1
@@ -373,12 +380,7 @@ TEST(PeakEnergyDensity, ConcentrationByBiaxialityInterpolatesTheNodesWithExactSl
 // one shows). W_peak of the membrane state is K_m(α, ρ) W.
 TEST(PeakEnergyDensity, StressBiaxialityReadsThePrincipalRatioOfUniformStates) {
   const SurfaceMesh mesh = test::grid_rectangle(0.4, 0.3, 8, 6);
-  LoadCase lc;
-  lc.fixed.assign(mesh.num_vertices(), false);
-  lc.clamped.assign(mesh.num_vertices(), false);
-  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() < 1e-9; })) lc.fixed[v] = lc.clamped[v] = true;
-  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
-  for (int v : test::select_vertices(mesh, [](const Vec3& p) { return p.x() > 0.4 - 1e-9; })) lc.forces(v, 2) = 1;
+  const LoadCase lc = cantilever(mesh, 2);
   MechanicsSettings mech;
   mech.stiffness = FillStiffness::Homogenised;
   mech.stiffness_curve =
