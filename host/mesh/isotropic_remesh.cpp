@@ -100,9 +100,10 @@ int mark_corners(const Mesh& m, double angle, Mesh::Property_map<VertexIndex, bo
 }
 
 /// Would moving vertex `moved` to `to` flip or flatten a face around it other than `skip`?
-bool keeps_orientation(const Mesh& m, VertexIndex moved, const Point& to, Mesh::Face_index skip) {
+bool keeps_orientation(const Mesh& m, VertexIndex moved, const Point& to, Mesh::Face_index skip,
+                       Mesh::Face_index skip_too = Mesh::null_face()) {
   for (const auto f : m.faces_around_target(m.halfedge(moved))) {
-    if (f == Mesh::null_face() || f == skip) continue;
+    if (f == Mesh::null_face() || f == skip || f == skip_too) continue;
     std::array<Point, 3> before, after;
     int k = 0;
     for (const auto v : m.vertices_around_face(m.halfedge(f))) {
@@ -142,6 +143,55 @@ int collapse_short_border_edges(Mesh& m, double tau, Mesh::Property_map<VertexIn
       const VertexIndex v = CGAL::Euler::collapse_edge(e, m);
       m.point(v) = to;
       corner[v] = was_corner;
+      ++count;
+      changed = true;
+    }
+  }
+  return count;
+}
+
+/// Step 1b (RemeshOptions::coarsen_straight_runs): vertices where the border, or a feature line, runs
+/// straight (on the segment between its two neighbours along the line, to 1e-9 of its length)
+/// removed while that segment is at most L long. Corners and feature ends stay; no line moves.
+/// Returns the count removed.
+int merge_straight_runs(Mesh& m, double L, VertexFlags& corner, const EdgeFlags& feature) {
+  int count = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const auto v : m.vertices()) {
+      if (m.is_removed(v) || m.is_isolated(v) || corner[v]) continue;
+      // The line's two edges at v: the border halfedges into and out of v, or v's two feature
+      // edges (v inside the surface, on one feature line).
+      std::array<Mesh::Halfedge_index, 2> along{Mesh::null_halfedge(), Mesh::null_halfedge()};
+      int found = 0;
+      const bool border = m.is_border(v);
+      for (const auto h : m.halfedges_around_target(m.halfedge(v))) {
+        const bool on_line = border ? m.is_border(h) : bool(feature[m.edge(h)]);
+        if (!on_line) continue;
+        if (found < 2) along[size_t(found)] = h;
+        ++found;
+      }
+      if (border ? found != 1 : found != 2) continue;
+      const VertexIndex a = m.source(along[0]);
+      const VertexIndex b = border ? m.target(m.next(along[0])) : m.source(along[1]);
+      if (a == b) continue;
+      const Point pa = m.point(a);
+      const Point& pb = m.point(b);
+      const Point& pv = m.point(v);
+      const double ab2 = CGAL::squared_distance(pa, pb);
+      if (ab2 > L * L || ab2 == 0) continue;
+      const double t = CGAL::scalar_product(pv - pa, pb - pa) / ab2;
+      if (!(t > 0 && t < 1) || CGAL::squared_distance(pv, pa + t * (pb - pa)) > 1e-18 * ab2) continue;
+      // v collapsed onto a, which keeps its position and its corner flag; the edge v–b, now a–b,
+      // keeps its feature flag.
+      const auto e = m.edge(along[0]);
+      if (!CGAL::Euler::does_satisfy_link_condition(e, m) ||
+          !keeps_orientation(m, v, pa, m.face(along[0]), m.face(m.opposite(along[0]))))
+        continue;
+      const bool was_corner = corner[a];
+      const VertexIndex kept = CGAL::Euler::collapse_edge(e, m);
+      m.point(kept) = pa;
+      corner[kept] = was_corner;
       ++count;
       changed = true;
     }
@@ -359,6 +409,25 @@ std::vector<bool> faces_to_focus(const Mesh& m, const std::vector<Vec3>& centres
   return selected;
 }
 
+/// p on RemeshOptions::surface (given).
+Point onto_surface(const RemeshOptions& options, const Point& p) {
+  const Vec3 q = options.surface(Vec3(p.x(), p.y(), p.z()));
+  return Point(q.x(), q.y(), q.z());
+}
+
+/// CGAL's isotropic remeshing of `faces` at `size` with the named parameters `np`, projecting onto
+/// options.surface when it is given (RemeshOptions::surface), else onto the input (CGAL's default).
+template <class FaceRange, class NamedParameters>
+void remesh_faces(const FaceRange& faces, double size, Mesh& m, const NamedParameters& np, const RemeshOptions& options) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  if (!options.surface) {
+    PMP::isotropic_remeshing(faces, size, m, np);
+    return;
+  }
+  const auto onto = [&m, &options](VertexIndex v) { return onto_surface(options, m.point(v)); };
+  PMP::isotropic_remeshing(faces, size, m, np.projection_functor(onto));
+}
+
 /// Remeshes the faces `selected` (indices of a garbage-free `m`) at `size`: their boundary and
 /// feature edges split first (the remeshing protects them), the region's border with the rest kept,
 /// then every interior vertex projected onto `surface` (new boundary vertices onto `outline`, the
@@ -400,13 +469,16 @@ int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const
   for (const auto v : m.vertices()) outside[v] = true;
   for (const auto f : region)
     for (const auto v : m.vertices_around_face(m.halfedge(f))) outside[v] = false;
-  PMP::isotropic_remeshing(region, size, m,
-                           CGAL::parameters::number_of_iterations(unsigned(options.iterations))
-                               .vertex_is_constrained_map(pinned)
-                               .edge_is_constrained_map(feature)
-                               .protect_constraints(true));
-  for (const auto v : m.vertices())
-    if (!outside[v] && !pinned[v] && !m.is_border(v) && !m.is_isolated(v)) m.point(v) = surface.closest_point(m.point(v));
+  remesh_faces(region, size, m,
+               CGAL::parameters::number_of_iterations(unsigned(options.iterations))
+                   .vertex_is_constrained_map(pinned)
+                   .edge_is_constrained_map(feature)
+                   .protect_constraints(true),
+               options);
+  for (const auto v : m.vertices()) {
+    if (outside[v] || pinned[v] || m.is_border(v) || m.is_isolated(v)) continue;
+    m.point(v) = options.surface ? onto_surface(options, m.point(v)) : surface.closest_point(m.point(v));
+  }
   m.remove_property_map(pinned);
   m.remove_property_map(outside);
   m.collect_garbage();
@@ -461,6 +533,7 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
   namespace PMP = CGAL::Polygon_mesh_processing;
   const double L = options.target_edge_length;
   out.collapsed_boundary_edges = collapse_short_border_edges(m, options.min_boundary_edge * L, corner);
+  if (options.coarsen_straight_runs) out.merged_line_vertices = merge_straight_runs(m, L, corner, feature);
   m.collect_garbage();
   // Long boundary and feature edges split at the remeshing's own threshold, then every one is
   // protected: the remeshing neither splits, collapses, flips nor relaxes it.
@@ -471,11 +544,12 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
   {
     auto kept = m.add_property_map<VertexIndex, bool>("v:kept", false).first;
     mark_kept_vertices(m, corner, feature, kept);
-    PMP::isotropic_remeshing(m.faces(), L, m,
-                             CGAL::parameters::number_of_iterations(unsigned(options.iterations))
-                                 .vertex_is_constrained_map(kept)
-                                 .edge_is_constrained_map(feature)
-                                 .protect_constraints(true));
+    remesh_faces(m.faces(), L, m,
+                 CGAL::parameters::number_of_iterations(unsigned(options.iterations))
+                     .vertex_is_constrained_map(kept)
+                     .edge_is_constrained_map(feature)
+                     .protect_constraints(true),
+                 options);
     m.remove_property_map(kept);
   }
   m.collect_garbage();

@@ -9,6 +9,13 @@
 ///     corner when there is one; never when a face around would flip). The cut leaves such edges
 ///     where an outline crosses a mesh edge next to a polygon vertex; kept, each would leave a
 ///     needle beside it. The outline moves by less than that length there.
+///  1b. with `coarsen_straight_runs`: vertices of straight runs of the boundary and of the feature
+///     lines (each on the segment between its two neighbours along the line, to 1e-9 of its
+///     length) are removed while that segment is at most L long, corners and feature ends kept; no
+///     line moves. A boundary much finer than L along a straight side (a level coarser than its
+///     base mesh) otherwise leaves triangles of size L spanning two collinear boundary edges, which
+///     no flip repairs: zero-area faces. (A run's last piece can stay short: the removals stop
+///     where a longer move would flip the fine faces beside it.)
 ///  2. boundary edges longer than 4/3 L are split at equal intervals (points on the edge);
 ///  3. CGAL's Polygon_mesh_processing::isotropic_remeshing (split long edges, collapse short
 ///     ones, flip towards valence 6, tangential relaxation, projection onto the input surface)
@@ -47,6 +54,7 @@
 /// at L (the thresholds are in units of the level-0 size), so the sizes are everywhere 2^-k of the
 /// level-0 mesh's and Richardson extrapolation over the family holds.
 #include <array>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -94,6 +102,17 @@ struct RemeshOptions {
   /// each (the conforming verification's support outlines, scene.h support_outline_edges). Their
   /// vertices are kept like corners; a pair that is not an input edge is an InputError.
   std::vector<std::array<int, 2>> feature_edges{};
+  /// Where the remeshing puts the interior vertices it creates or moves (optional; by default onto
+  /// the input surface): each point p of the remeshing goes to surface(p) instead — the exact
+  /// surface the input is a faceted mesh of (host/surfaces/generators.h ShapeSurface::onto_surface),
+  /// so that an output finer than the input does not take the input's facets, and its vertex
+  /// spacing and diagonals are chosen on the surface the output lies on. Boundary, corner and
+  /// feature vertices are left where the steps above put them (on the input's outline).
+  std::function<Vec3(const Vec3&)> surface{};
+  /// Step 1b: straight runs of the boundary and of the feature lines coarsened to edges of at most
+  /// L. The conforming verification sets it on a level at least twice
+  /// as coarse as its base mesh (solvers/conforming/conforming_verification.h).
+  bool coarsen_straight_runs = false;
 };
 
 struct RemeshedMesh {
@@ -101,6 +120,7 @@ struct RemeshedMesh {
   RowMatX3i faces;      ///< #F×3, oriented like the input
   int corner_vertices = 0;  ///< boundary vertices kept as corners
   int collapsed_boundary_edges = 0;  ///< step 1
+  int merged_line_vertices = 0;      ///< step 1b: vertices of straight boundary or feature runs removed
   int repaired_faces = 0;            ///< step 4: flat faces fewer after the repair
   int feature_edges = 0;             ///< output edges along RemeshOptions::feature_edges
   std::vector<int> graded_faces;     ///< faces selected by each grading pass (before it remeshed them)

@@ -64,8 +64,7 @@ ZoomPatch zoom_patch(const SurfaceMesh& level, const std::vector<Vec3>& centres,
 
 LevelLoads level_loads(const Scene& scene, const SceneMeshes& meshes, const SurfaceMesh& level,
                        const LoadCase& level_case) {
-  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
-  const std::vector<bool> outer = boundary_vertices_on_boundary_of(level, meshes.base, snap);
+  const std::vector<bool> outer = outer_boundary_vertices(level, meshes);
   LevelLoads out;
   out.own.assign(scene.loads.size(), 0.0);
   out.matched = level_case.load_measures;
@@ -84,8 +83,7 @@ LevelLoads level_loads(const Scene& scene, const SceneMeshes& meshes, const Surf
 
 LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const LevelLoads& level,
                             const SurfaceMesh& sub) {
-  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
-  const std::vector<bool> outer_sub = boundary_vertices_on_boundary_of(sub, meshes.base, snap);
+  const std::vector<bool> outer_sub = outer_boundary_vertices(sub, meshes);
   LoadCase lc;
   const size_t nv = size_t(sub.num_vertices());
   lc.fixed.assign(nv, false);

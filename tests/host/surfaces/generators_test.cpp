@@ -532,5 +532,61 @@ TEST(Shapes, RejectsBadResolutionsAndSaysWhatFits) {
             std::string::npos);
 }
 
+// The exact surface of every shape (generators.h ShapeSurface) holds every mesh the generator makes
+// of it, at any resolution: interior vertices are fixed points of onto_surface, border vertices of
+// onto_border. A point on a face (off the surface by the face's sagitta) goes to a fixed point
+// within that sagitta, and a border edge's midpoint (on a chord) onto the border curve.
+TEST(Shapes, ExactSurfaceHoldsEveryMeshOfTheShape) {
+  for (const ShapeInfo& info : builtin_shapes()) {
+    SCOPED_TRACE(info.name);
+    const ShapeSurface exact = shape_surface(info.name, {});
+    ASSERT_TRUE(exact);
+    const bool flat = info.name == "plate" || info.name == "sheet";
+    for (double h : {info.sim_edge_length, info.base_edge_length, 0.5 * info.base_edge_length}) {
+      const SurfaceMesh m = generate_shape(info.name, {}, h);
+      const double tol = 1e-12 * (m.bbox_max() - m.bbox_min()).norm();
+      for (int v = 0; v < m.num_vertices(); ++v) {
+        const Vec3 x = m.vertices().row(v).transpose();
+        const bool border = m.is_boundary_vertex()[size_t(v)];
+        ASSERT_LT(((border ? exact.onto_border(x) : exact.onto_surface(x)) - x).norm(), tol)
+            << (border ? "border " : "") << "vertex " << v << " at h = " << h;
+        ASSERT_LT((exact.onto_surface(x) - x).norm(), tol) << "vertex " << v << " at h = " << h;
+      }
+      double moved = 0;
+      for (int f = 0; f < m.num_faces(); ++f) {
+        const auto face = m.faces().row(f);
+        const Vec3 c = (m.vertices().row(face(0)) + m.vertices().row(face(1)) + m.vertices().row(face(2))).transpose() / 3;
+        const Vec3 p = exact.onto_surface(c);
+        ASSERT_LT((exact.onto_surface(p) - p).norm(), tol) << "face " << f;
+        // The sagitta of a face of edge h on curvature 1/R is about h²/(8R); R ≥ 0.06 m on every
+        // default shape (the chair's fillets), so 0.2 h bounds it with a wide margin.
+        ASSERT_LT((p - c).norm(), 0.2 * h) << "face " << f;
+        moved = std::max(moved, (p - c).norm());
+      }
+      if (flat) EXPECT_EQ(moved, 0.0);
+      else EXPECT_GT(moved, 1e-6 * h) << "a curved shape's faces are off its surface";
+      for (int e = 0; e < m.num_edges(); ++e) {
+        if (m.edge_faces()(e, 1) >= 0) continue;
+        const Vec3 mid = 0.5 * (m.vertices().row(m.edges()(e, 0)) + m.vertices().row(m.edges()(e, 1))).transpose();
+        const Vec3 q = exact.onto_border(mid);
+        ASSERT_LT((exact.onto_border(q) - q).norm(), tol) << "border edge " << e;
+        ASSERT_LT((exact.onto_surface(q) - q).norm(), tol) << "border edge " << e;
+        ASSERT_LT((q - mid).norm(), 0.2 * h) << "border edge " << e;
+      }
+    }
+  }
+  // The bowl's surface is its sphere, its border the rim circle.
+  const double radius = 0.15, depth = 0.07, sphere = (radius * radius + depth * depth) / (2 * depth);
+  const ShapeSurface bowl = shape_surface("bowl", {});
+  for (const Vec3& x : {Vec3(0.01, 0.02, 0.0), Vec3(-0.1, 0.05, 0.02), Vec3(0.12, -0.06, 0.07)}) {
+    EXPECT_NEAR((bowl.onto_surface(x) - Vec3(0, 0, sphere)).norm(), sphere, 1e-14);
+    const Vec3 r = bowl.onto_border(x);
+    EXPECT_NEAR(std::hypot(r.x(), r.y()), radius, 1e-15);
+    EXPECT_EQ(r.z(), depth);
+  }
+  EXPECT_THROW(shape_surface("teapot", {}), InputError);
+  EXPECT_THROW(shape_surface("bowl", {{"depth", 1.0}}), InputError);
+}
+
 }  // namespace
 }  // namespace cutwork
