@@ -409,25 +409,6 @@ std::vector<bool> faces_to_focus(const Mesh& m, const std::vector<Vec3>& centres
   return selected;
 }
 
-/// p on RemeshOptions::surface (given).
-Point onto_surface(const RemeshOptions& options, const Point& p) {
-  const Vec3 q = options.surface(Vec3(p.x(), p.y(), p.z()));
-  return Point(q.x(), q.y(), q.z());
-}
-
-/// CGAL's isotropic remeshing of `faces` at `size` with the named parameters `np`, projecting onto
-/// options.surface when it is given (RemeshOptions::surface), else onto the input (CGAL's default).
-template <class FaceRange, class NamedParameters>
-void remesh_faces(const FaceRange& faces, double size, Mesh& m, const NamedParameters& np, const RemeshOptions& options) {
-  namespace PMP = CGAL::Polygon_mesh_processing;
-  if (!options.surface) {
-    PMP::isotropic_remeshing(faces, size, m, np);
-    return;
-  }
-  const auto onto = [&m, &options](VertexIndex v) { return onto_surface(options, m.point(v)); };
-  PMP::isotropic_remeshing(faces, size, m, np.projection_functor(onto));
-}
-
 /// Remeshes the faces `selected` (indices of a garbage-free `m`) at `size`: their boundary and
 /// feature edges split first (the remeshing protects them), the region's border with the rest kept,
 /// then every interior vertex projected onto `surface` (new boundary vertices onto `outline`, the
@@ -469,16 +450,13 @@ int refine_region(Mesh& m, const std::vector<bool>& selected, double size, const
   for (const auto v : m.vertices()) outside[v] = true;
   for (const auto f : region)
     for (const auto v : m.vertices_around_face(m.halfedge(f))) outside[v] = false;
-  remesh_faces(region, size, m,
-               CGAL::parameters::number_of_iterations(unsigned(options.iterations))
-                   .vertex_is_constrained_map(pinned)
-                   .edge_is_constrained_map(feature)
-                   .protect_constraints(true),
-               options);
-  for (const auto v : m.vertices()) {
-    if (outside[v] || pinned[v] || m.is_border(v) || m.is_isolated(v)) continue;
-    m.point(v) = options.surface ? onto_surface(options, m.point(v)) : surface.closest_point(m.point(v));
-  }
+  PMP::isotropic_remeshing(region, size, m,
+                           CGAL::parameters::number_of_iterations(unsigned(options.iterations))
+                               .vertex_is_constrained_map(pinned)
+                               .edge_is_constrained_map(feature)
+                               .protect_constraints(true));
+  for (const auto v : m.vertices())
+    if (!outside[v] && !pinned[v] && !m.is_border(v) && !m.is_isolated(v)) m.point(v) = surface.closest_point(m.point(v));
   m.remove_property_map(pinned);
   m.remove_property_map(outside);
   m.collect_garbage();
@@ -544,12 +522,11 @@ RemeshedMesh remesh_isotropic(const RowMatX3d& vertices, const RowMatX3i& faces,
   {
     auto kept = m.add_property_map<VertexIndex, bool>("v:kept", false).first;
     mark_kept_vertices(m, corner, feature, kept);
-    remesh_faces(m.faces(), L, m,
-                 CGAL::parameters::number_of_iterations(unsigned(options.iterations))
-                     .vertex_is_constrained_map(kept)
-                     .edge_is_constrained_map(feature)
-                     .protect_constraints(true),
-                 options);
+    PMP::isotropic_remeshing(m.faces(), L, m,
+                             CGAL::parameters::number_of_iterations(unsigned(options.iterations))
+                                 .vertex_is_constrained_map(kept)
+                                 .edge_is_constrained_map(feature)
+                                 .protect_constraints(true));
     m.remove_property_map(kept);
   }
   m.collect_garbage();

@@ -54,7 +54,6 @@
 /// at L (the thresholds are in units of the level-0 size), so the sizes are everywhere 2^-k of the
 /// level-0 mesh's and Richardson extrapolation over the family holds.
 #include <array>
-#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -102,13 +101,6 @@ struct RemeshOptions {
   /// each (the conforming verification's support outlines, scene.h support_outline_edges). Their
   /// vertices are kept like corners; a pair that is not an input edge is an InputError.
   std::vector<std::array<int, 2>> feature_edges{};
-  /// Where the remeshing puts the interior vertices it creates or moves (optional; by default onto
-  /// the input surface): each point p of the remeshing goes to surface(p) instead — the exact
-  /// surface the input is a faceted mesh of (host/surfaces/generators.h ShapeSurface::onto_surface),
-  /// so that an output finer than the input does not take the input's facets, and its vertex
-  /// spacing and diagonals are chosen on the surface the output lies on. Boundary, corner and
-  /// feature vertices are left where the steps above put them (on the input's outline).
-  std::function<Vec3(const Vec3&)> surface{};
   /// Step 1b: straight runs of the boundary and of the feature lines coarsened to edges of at most
   /// L. The conforming verification sets it on a level at least twice
   /// as coarse as its base mesh (solvers/conforming/conforming_verification.h).

@@ -62,7 +62,7 @@ const std::vector<Entry>& entries() {
   "mesh": {"generator": "table", "edge_length": 0.035, "sim_edge_length": 0.04},
   )json" CUTWORK_PLYWOOD R"json(,
   "mechanics": {"lattice": "square", "lattice_axis": [0, 1, 0]},
-  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-9}}}],
+  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "area", "force": [0, 0, -1500], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "circle", "kind": "circle"}],
   "pattern": {"objective": "exemplar", "exemplar": "circles", "s": 0.0, "r_N": 0.3, "seed": 1, "count": 462},
@@ -72,7 +72,7 @@ const std::vector<Entry>& entries() {
        nullptr, R"json({
   "mesh": {"generator": "chair", "edge_length": 0.022, "sim_edge_length": 0.03},
   )json" CUTWORK_PLYWOOD R"json(,
-  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-9}}}],
+  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "area", "force": [0, 0, -4000], "select": {"entity": "faces", "x": {"above": 0.05, "below": 0.4}, "z": {"above": 0.4, "below": 0.5}}},
             {"type": "area", "force": [-800, 0, 0], "select": {"entity": "faces", "z": {"above": 0.6}}}],
   "stencils": [{"name": "star", "kind": "star"}, {"name": "circle", "kind": "circle"}],
@@ -83,7 +83,7 @@ const std::vector<Entry>& entries() {
        nullptr, R"json({
   "mesh": {"generator": "pavilion", "edge_length": 0.22, "sim_edge_length": 0.35},
   "material": {"youngs_modulus": 2e10, "poisson_ratio": 0.2, "thickness": 0.03, "density": 2000},
-  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-9}}}],
+  "supports": [{"type": "clamped", "select": {"entity": "vertices", "z": {"below": 1e-6}}}],
   "loads": [{"type": "self_weight", "gravity": [0, 0, -9.81]}],
   "stencils": [{"name": "flower", "kind": "flower"}],
   "pattern": {"objective": "exemplar", "exemplar": "stripes", "s": 0.2, "r_N": 0.3, "seed": 1, "count": 310},

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/parallel_for.h>
-
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
 #include "host/core/work_limits.h"
@@ -604,7 +602,6 @@ SceneMeshes build_scene_meshes(const Scene& scene) {
       out.sim = out.base;
       out.sim_is_base = true;
     }
-    out.exact = shape_surface(scene.mesh.generator, scene.mesh.params);
   } else {
     out.base = read_mesh(scene.mesh.file);
     out.sim = out.base;
@@ -612,30 +609,6 @@ SceneMeshes build_scene_meshes(const Scene& scene) {
   }
   out.map = map_meshes(out.base, out.sim);
   return out;
-}
-
-std::vector<bool> outer_boundary_vertices(const SurfaceMesh& mesh, const SceneMeshes& meshes) {
-  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
-  std::vector<bool> outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
-  if (meshes.exact) {
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (outer[size_t(v)] || !mesh.is_boundary_vertex()[v]) continue;
-      const Vec3 x = mesh.vertices().row(v).transpose();
-      outer[size_t(v)] = (meshes.exact.onto_border(x) - x).norm() <= snap;
-    }
-  }
-  return outer;
-}
-
-SurfaceMesh onto_exact_surface(const SurfaceMesh& mesh, const SceneMeshes& meshes, const std::string& what) {
-  if (!meshes.exact) return mesh;
-  const std::vector<bool> outer = outer_boundary_vertices(mesh, meshes);
-  RowMatX3d x = mesh.vertices();
-  tbb::parallel_for(0, int(x.rows()), [&](int v) {
-    const Vec3 p = x.row(v).transpose();
-    x.row(v) = (outer[size_t(v)] ? meshes.exact.onto_border(p) : meshes.exact.onto_surface(p)).transpose();
-  });
-  return SurfaceMesh(std::move(x), mesh.faces(), what);
 }
 
 namespace {

@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "host/mesh/mesh_mapping.h"
-#include "host/surfaces/generators.h"
 #include "host/scene/load_case.h"
 
 namespace cutwork {
@@ -172,30 +171,14 @@ const std::vector<BuiltinScene>& builtin_scenes();
 /// The JSON document of a built-in scene, or throws InputError listing the known names.
 nlohmann::json builtin_scene_json(const std::string& name);
 
-/// The meshes of a scene: base (cut and exported), simulation, and the map between them, and for a
-/// built-in shape the exact surface both sample (host/surfaces/generators.h; empty for a mesh
-/// file, whose facets are the surface).
+/// The meshes of a scene: base (cut and exported), simulation, and the map between them.
 struct SceneMeshes {
   SurfaceMesh base;
   SurfaceMesh sim;
   MeshMapping map;
   bool sim_is_base = false;
-  ShapeSurface exact;
 };
 SceneMeshes build_scene_meshes(const Scene& scene);
-
-/// #V of `mesh`, a mesh of the scene's surface with stencils cut out (verify's levels): true for
-/// its boundary vertices on the uncut surface's border, as opposed to the rims of the holes — those
-/// within round-off (1e-9 of the base mesh's diagonal) of a border edge of the base mesh, or, for a
-/// built-in shape, of the exact border curve (`exact.onto_border`), where the levels put them.
-std::vector<bool> outer_boundary_vertices(const SurfaceMesh& mesh, const SceneMeshes& meshes);
-
-/// Moves `mesh`'s vertices onto the scene's exact surface (`meshes.exact`; a mesh file's scene:
-/// unchanged): the vertices outer_boundary_vertices finds onto the border curve, the others onto
-/// the surface (`what` names the result in its errors). A mesh the remesher projected onto the
-/// faceted base (or its cut) thus stops resolving the base's facets. Idempotent to round-off (a
-/// vertex already there stays).
-SurfaceMesh onto_exact_surface(const SurfaceMesh& mesh, const SceneMeshes& meshes, const std::string& what);
 
 /// Resolves supports and loads onto `mesh` (normally the simulation mesh).
 /// Supports fix the vertices their selector picks. Loads are integrated over their selector's

@@ -44,8 +44,6 @@ struct Definition {
   /// resolutions must be refused before anything is allocated or any int overflows).
   std::function<double(const ShapeParameters&, double h)> num_faces;
   std::function<SurfaceMesh(const ShapeParameters&, double h, const std::string& what)> generate;
-  /// The exact surface generate() samples (generators.h ShapeSurface).
-  std::function<ShapeSurface(const ShapeParameters&)> surface;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -60,22 +58,6 @@ SurfaceMesh flat_rectangle(double width, double height, double h, const std::str
     vertices.row(i) << domain.uv(i, 0) - 0.5 * width, domain.uv(i, 1) - 0.5 * height, 0.0;
   }
   return SurfaceMesh(std::move(vertices), domain.faces, what);
-}
-
-/// The flat rectangle's exact surface: z = 0, its border the nearest side.
-ShapeSurface flat_rectangle_surface(double width, double height) {
-  ShapeSurface out;
-  out.onto_surface = [](const Vec3& p) { return Vec3(p.x(), p.y(), 0.0); };
-  out.onto_border = [width, height](const Vec3& p) {
-    const double hx = 0.5 * width, hy = 0.5 * height;
-    Vec3 q(std::clamp(p.x(), -hx, hx), std::clamp(p.y(), -hy, hy), 0.0);
-    const double to_side[4] = {q.x() + hx, hx - q.x(), q.y() + hy, hy - q.y()};
-    const int side = int(std::min_element(to_side, to_side + 4) - to_side);
-    if (side < 2) q.x() = side == 0 ? -hx : hx;
-    else q.y() = side == 2 ? -hy : hy;
-    return q;
-  };
-  return out;
 }
 
 /// Row spacing in a stretch of an extruded profile: a fillet gets a row at least every
@@ -110,27 +92,6 @@ SurfaceMesh extruded_profile(const RoundedPolyline& profile, double width, doubl
 
 double extruded_num_faces(const RoundedPolyline& profile, double width, double h) {
   return shapes_detail::plan_rows(width, profile.breaks(), h, arc_rows(profile)).num_faces();
-}
-
-/// The extruded profile's exact surface: the closest point of the profile in the x-z plane, y
-/// kept; its border the nearest side of the unrolled (arc length × y) rectangle.
-ShapeSurface extruded_surface(const RoundedPolyline& profile, double width) {
-  ShapeSurface out;
-  out.onto_surface = [profile](const Vec3& p) {
-    const Vec2 q = profile.point(profile.closest_arc_length(Vec2(p.x(), p.z())));
-    return Vec3(q.x(), p.y(), q.y());
-  };
-  out.onto_border = [profile, width](const Vec3& p) {
-    double s = profile.closest_arc_length(Vec2(p.x(), p.z()));
-    double y = std::clamp(p.y(), -0.5 * width, 0.5 * width);
-    const double to_side[4] = {s, profile.length() - s, y + 0.5 * width, 0.5 * width - y};
-    const int side = int(std::min_element(to_side, to_side + 4) - to_side);
-    if (side < 2) s = side == 0 ? 0.0 : profile.length();
-    else y = side == 2 ? -0.5 * width : 0.5 * width;
-    const Vec2 q = profile.point(s);
-    return Vec3(q.x(), y, q.y());
-  };
-  return out;
 }
 
 /// Ring count of a hex disk whose near-equilateral triangles of edge h cover `area`.
@@ -169,7 +130,6 @@ Definition plate_definition() {
   d.generate = [](const ShapeParameters& p, double h, const std::string& what) {
     return flat_rectangle(get(p, "width"), get(p, "height"), h, what);
   };
-  d.surface = [](const ShapeParameters& p) { return flat_rectangle_surface(get(p, "width"), get(p, "height")); };
   return d;
 }
 
@@ -189,7 +149,6 @@ Definition sheet_definition() {
   d.generate = [](const ShapeParameters& p, double h, const std::string& what) {
     return flat_rectangle(get(p, "size"), get(p, "size"), h, what);
   };
-  d.surface = [](const ShapeParameters& p) { return flat_rectangle_surface(get(p, "size"), get(p, "size")); };
   return d;
 }
 
@@ -262,21 +221,6 @@ Definition bowl_definition() {
     RowMatX3i faces = domain.faces;
     faces.col(1).swap(faces.col(2));
     return SurfaceMesh(std::move(vertices), std::move(faces), what);
-  };
-  d.surface = [](const ShapeParameters& p) {
-    const BowlGeometry g(get(p, "radius"), get(p, "depth"));
-    ShapeSurface out;
-    out.onto_surface = [g](const Vec3& x) {  // along the sphere's radius
-      const Vec3 centre(0, 0, g.sphere_radius);
-      const Vec3 d = x - centre;
-      const double n = d.norm();
-      return n > 0 ? Vec3(centre + d * (g.sphere_radius / n)) : Vec3::Zero();
-    };
-    out.onto_border = [g](const Vec3& x) {
-      const Vec2 xy(x.x(), x.y());
-      return xy.norm() > 0 ? g.rim_point(xy) : x;
-    };
-    return out;
   };
   return d;
 }
@@ -401,7 +345,7 @@ Definition pavilion_definition() {
   d.info = {"pavilion",
             "doubly curved vault over a disk standing on 'legs' feet: crown of 'height' at the "
             "centre, rim arches of 'arch_height' between feet; each foot is a strip of the rim "
-            "of 'foot_length' on z = 0, exactly (select supports with z below 1e-9: past a foot's "
+            "of 'foot_length' on z = 0, exactly (select supports with z below 1e-6: past a foot's "
             "end the rim rises out of z = 0 tangentially, so a looser bound fixes a longer strip of a "
             "finer mesh)",
             {{"radius", 3.0}, {"height", 1.8}, {"arch_height", 1.2}, {"legs", 4},
@@ -498,16 +442,6 @@ Definition pavilion_definition() {
     }
     return SurfaceMesh(std::move(vertices), domain.faces, what);
   };
-  d.surface = [](const ShapeParameters& p) {
-    const PavilionGeometry g(p);
-    ShapeSurface out;
-    out.onto_surface = [g](const Vec3& x) {  // the height field over the disk: x and y kept
-      const double theta = std::atan2(x.y(), x.x());
-      return Vec3(x.x(), x.y(), g.z(std::hypot(x.x(), x.y()) / g.radius, theta));
-    };
-    out.onto_border = [g](const Vec3& x) { return g.point(Vec2(x.x(), x.y()), true); };
-    return out;
-  };
   return d;
 }
 
@@ -525,7 +459,6 @@ void set_extruded(Definition& d, RoundedPolyline (*profile)(const ShapeParameter
   d.generate = [=](const ShapeParameters& p, double h, const std::string& what) {
     return extruded_profile(profile(p), get(p, extent_key), h, what);
   };
-  d.surface = [=](const ShapeParameters& p) { return extruded_surface(profile(p), get(p, extent_key)); };
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -740,12 +673,6 @@ SurfaceMesh generate_shape(const std::string& name, const ShapeParameters& param
         shape, length_key, edge_length, count, max_faces, length_key, fitting_edge_length(*d, p, edge_length, faces, coarsest, max_faces)));
   }
   return d->generate(p, edge_length, shape);
-}
-
-ShapeSurface shape_surface(const std::string& name, const ShapeParameters& params) {
-  const Definition* d = find_definition(name);
-  if (!d) throw InputError(fmt::format("unknown shape '{}' (built-in shapes: {})", name, shape_names()));
-  return d->surface(validated(*d, params));
 }
 
 }  // namespace cutwork

@@ -31,7 +31,6 @@
 ///       tangentially relaxed: ≥ 34° at the defaults, ≥ 25° over the admissible parameters.
 /// The mean edge length is within a few percent of the requested one; the face count scales
 /// as 1/edge_length². Generation is deterministic (no randomness, no threading).
-#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -70,30 +69,5 @@ inline constexpr int default_max_faces = 4'000'000;
 SurfaceMesh generate_shape(const std::string& name, const ShapeParameters& params,
                            double edge_length, int max_faces = default_max_faces,
                            const std::string& length_key = "edge_length");
-
-/// The exact surface a built-in shape's meshes approximate, for meshes finer than the base mesh
-/// that must not inherit its facets (cutwork verify's levels, docs/DESIGN.md "The levels lie on
-/// the shape's own surface"). A mesh of the shape has its vertices on the surface and its border
-/// vertices on the surface's border curve, but its faces are flat: a point on a face (a vertex a
-/// remesher put there) is off the surface by up to the face's sagitta, and a point on a border edge
-/// is on a chord of the border curve.
-///  - onto_surface(p): the surface's point p stands for — the closest point for the plate, sheet,
-///    bowl (along the sphere's radius) and the extruded table and chair (onto the profile, y kept);
-///    the pavilion, a height field over its disk, keeps x and y. Idempotent to round-off.
-///  - onto_border(p): for a point on or near the border: the closest point of the border curve
-///    (the plate's and sheet's sides; the bowl's rim circle, z = depth; the pavilion's rim, feet
-///    included, at p's azimuth; the extruded shapes' sides y = ±width/2 and profile ends, whichever
-///    is nearest in the unrolled (arc length × y) rectangle).
-/// Both are exact maps of the generator's geometry (no tessellation), so the meshes they place
-/// converge onto one surface.
-struct ShapeSurface {
-  std::function<Vec3(const Vec3&)> onto_surface;
-  std::function<Vec3(const Vec3&)> onto_border;
-  explicit operator bool() const { return bool(onto_surface); }
-};
-
-/// The exact surface of shape `name` with parameters `params` (validated as generate_shape does;
-/// InputError for an unknown name or parameter).
-ShapeSurface shape_surface(const std::string& name, const ShapeParameters& params);
 
 }  // namespace cutwork

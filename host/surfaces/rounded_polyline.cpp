@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 namespace cutwork::shapes_detail {
 
@@ -110,33 +109,6 @@ std::vector<double> RoundedPolyline::breaks() const {
 double RoundedPolyline::radius_at(double s) const {
   const Piece& piece = piece_at(s);
   return piece.arc ? piece.radius : INFINITY;
-}
-
-double RoundedPolyline::closest_arc_length(const Vec2& p) const {
-  double best = INFINITY, best_s = 0;
-  for (const Piece& piece : m_pieces) {
-    double sigma = 0;
-    if (!piece.arc) {
-      sigma = std::clamp((p - piece.start).dot(piece.direction), 0.0, piece.length);
-    } else {
-      // The angle of p about the centre, measured along the arc from its start; outside the arc's
-      // span, the nearer end.
-      const Vec2 d = p - piece.centre;
-      const double span = piece.length / piece.radius;
-      double along = piece.turn * std::remainder(std::atan2(d.y(), d.x()) - piece.angle0, 2 * std::numbers::pi);
-      if (along < 0 || along > span) {
-        const double to_start = (p - piece.start).norm(), to_end = (p - piece.end).norm();
-        along = to_start <= to_end ? 0.0 : span;
-      }
-      sigma = piece.radius * along;
-    }
-    const double distance = (point(piece.begin + sigma) - p).norm();
-    if (distance < best) {
-      best = distance;
-      best_s = piece.begin + sigma;
-    }
-  }
-  return best_s;
 }
 
 Vec2 RoundedPolyline::tangent(double s) const {

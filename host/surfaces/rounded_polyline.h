@@ -31,8 +31,6 @@ class RoundedPolyline {
   std::vector<double> breaks() const;
   /// Radius of curvature at arc length s: the fillet's radius on an arc, infinity on a segment.
   double radius_at(double s) const;
-  /// Arc length of the curve's point closest to p (the first piece's on a tie).
-  double closest_arc_length(const Vec2& p) const;
 
  private:
   struct Piece {

@@ -56,23 +56,20 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
 }
 
 /// The base mesh cut along every stencil outline and remeshed at `edge_length`, keeping the cut's
-/// `features` (support_lines_on_cut) as lines, on the shape's exact surface: the remesher projects
-/// onto it (RemeshOptions::surface) and onto_exact_surface puts the outline there too. On a level
-/// at least kStraightRunCoarsening × the base mesh's mean edge, the straight runs of the outline and
-/// the lines are first coarsened (RemeshOptions::coarsen_straight_runs; they would leave zero-area
-/// caps).
-SurfaceMesh conforming_mesh(const CutSurface& cut, const SceneMeshes& meshes, double edge_length, int iterations,
+/// `features` (support_lines_on_cut) as lines. On a level at least kStraightRunCoarsening × the
+/// base mesh's mean edge (`base_edge`), the straight runs of the outline and of the lines are first
+/// coarsened (RemeshOptions::coarsen_straight_runs; they would leave zero-area caps).
+SurfaceMesh conforming_mesh(const CutSurface& cut, double base_edge, double edge_length, int iterations,
                             const GradingOptions& grading, const std::vector<std::array<int, 2>>& features) {
   RemeshOptions ro;
   ro.target_edge_length = edge_length;
   ro.iterations = iterations;
   ro.grading = grading;
   ro.feature_edges = features;
-  if (meshes.exact) ro.surface = meshes.exact.onto_surface;
-  ro.coarsen_straight_runs = edge_length >= kStraightRunCoarsening * meshes.base.mean_edge_length();
+  ro.coarsen_straight_runs = edge_length >= kStraightRunCoarsening * base_edge;
   RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
-  const std::string what = fmt::format("conforming mesh (edge length {:.4g} m)", edge_length);
-  return onto_exact_surface(SurfaceMesh(std::move(r.vertices), std::move(r.faces), what), meshes, what);
+  return SurfaceMesh(std::move(r.vertices), std::move(r.faces),
+                     fmt::format("conforming mesh (edge length {:.4g} m)", edge_length));
 }
 
 /// The outlines of the scene's supports on the base mesh (support_outline_edges: a clamped area's
@@ -250,15 +247,16 @@ LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scen
                                   std::vector<std::string>& notes, PreviousLevel previous = {}) {
   LevelSolve run;
   RunQuantities& q = run.q;
-  // Boundary selectors mean the surface's boundary, not the rims of the holes (outer_boundary_vertices:
-  // remeshing keeps boundary vertices on the cut's boundary edges, onto_exact_surface moves those of
-  // the base's border onto the shape's border curve, both to round-off).
-  std::vector<bool> outer = outer_boundary_vertices(mesh, meshes);
+  // Boundary selectors mean the surface's boundary, not the rims of the holes (tolerance: the
+  // cut's snapping distance is 1e-9 of the longest edge; remeshing keeps boundary vertices on
+  // the cut's boundary edges to round-off).
+  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
+  std::vector<bool> outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
   LoadCase lc = resolve_load_case(scene, mesh, &outer, &load_case);
   // Pieces the stencils cut loose (no supported vertex: an island between holes, or one that
   // hangs on the rest by a single vertex) fall out of the printed shell: left out, and said.
   if (drop_unsupported_pieces(mesh, lc, L, notes)) {
-    outer = outer_boundary_vertices(mesh, meshes);
+    outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
     lc = resolve_load_case(scene, mesh, &outer, &load_case);
   }
   q.fixed_extent = support_extent(mesh, lc.fixed);
@@ -421,7 +419,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       }
     }
     Stopwatch meshing;
-    SurfaceMesh mesh = conforming_mesh(cut, meshes, L, options.remesh_iterations, grading, support_lines);
+    SurfaceMesh mesh = conforming_mesh(cut, meshes.base.mean_edge_length(), L, options.remesh_iterations, grading, support_lines);
     const double mesh_seconds = meshing.seconds() + (level == 0 ? cut_seconds : 0.0);
     if (mesh.num_faces() > options.max_faces) {
       if (level > 0) {
@@ -568,11 +566,9 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
           ro.target_edge_length = L;
           ro.iterations = options.remesh_iterations;
           ro.grading = grading;
-          if (meshes.exact) ro.surface = meshes.exact.onto_surface;
           RemeshedMesh r =
               refine_about(patch->mesh.vertices(), patch->mesh.faces(), patch->collar, cut.vertices, cut.faces, ro);
-          const SurfaceMesh sub = onto_exact_surface(
-              SurfaceMesh(std::move(r.vertices), std::move(r.faces), "peak zoom submodel"), meshes, "peak zoom submodel");
+          const SurfaceMesh sub(std::move(r.vertices), std::move(r.faces), "peak zoom submodel");
           PeakZoomStep s;
           s.mesh_seconds = meshing.seconds();
           Stopwatch solving;
@@ -603,7 +599,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
         }
       }
       Stopwatch meshing;
-      SurfaceMesh mesh = conforming_mesh(cut, meshes, L, options.remesh_iterations, grading, support_lines);
+      SurfaceMesh mesh = conforming_mesh(cut, meshes.base.mean_edge_length(), L, options.remesh_iterations, grading, support_lines);
       const double mesh_seconds = meshing.seconds();
       if (mesh.num_faces() > kBudgetPredictionMargin * options.max_faces) {
         v.notes.push_back(fmt::format("the peak zoom stopped before step {}: its {} triangles exceed 1.25× the budget "

@@ -64,7 +64,8 @@ ZoomPatch zoom_patch(const SurfaceMesh& level, const std::vector<Vec3>& centres,
 
 LevelLoads level_loads(const Scene& scene, const SceneMeshes& meshes, const SurfaceMesh& level,
                        const LoadCase& level_case) {
-  const std::vector<bool> outer = outer_boundary_vertices(level, meshes);
+  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
+  const std::vector<bool> outer = boundary_vertices_on_boundary_of(level, meshes.base, snap);
   LevelLoads out;
   out.own.assign(scene.loads.size(), 0.0);
   out.matched = level_case.load_measures;
@@ -83,7 +84,8 @@ LevelLoads level_loads(const Scene& scene, const SceneMeshes& meshes, const Surf
 
 LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const LevelLoads& level,
                             const SurfaceMesh& sub) {
-  const std::vector<bool> outer_sub = outer_boundary_vertices(sub, meshes);
+  const double snap = 1e-9 * (meshes.base.bbox_max() - meshes.base.bbox_min()).norm();
+  const std::vector<bool> outer_sub = boundary_vertices_on_boundary_of(sub, meshes.base, snap);
   LoadCase lc;
   const size_t nv = size_t(sub.num_vertices());
   lc.fixed.assign(nv, false);

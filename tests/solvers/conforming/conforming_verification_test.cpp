@@ -514,58 +514,6 @@ TEST(ConformingVerification, PiecesCutLooseAreLeftOutAndSaid) {
   EXPECT_TRUE(std::isfinite(v.compliance_ratio));
 }
 
-// The levels lie on the bowl's sphere, their border on its rim circle (the scene pins the rim:
-// outer_boundary_vertices must find it there), not on the base mesh's facets and chords; without
-// the exact surface (a mesh file's scene) they lie on the facets, off the sphere by their sagitta.
-TEST(ConformingVerification, LevelsLieOnTheShapesExactSurface) {
-  const Scene scene = scene_at("bowl", 0.016, 0.03);
-  const double rim = 0.15, depth = 0.07, R = (rim * rim + depth * depth) / (2 * depth);
-  auto on_sphere = [&](double x, double y, double radius) {
-    StencilParams c = circle_at(x, y, radius);
-    c.position.z() = R - std::sqrt(R * R - x * x - y * y);
-    return c;
-  };
-  // Three holes inside and one across the rim.
-  const std::vector<StencilParams> stencils = {on_sphere(0.06, 0, 0.012), on_sphere(-0.03, 0.05, 0.012),
-                                               on_sphere(-0.03, -0.05, 0.012), on_sphere(0, 0.142, 0.012)};
-  ConformingOptions o;
-  o.edge_length = 0.008;  // half the base edge: the cut is split once before it is remeshed
-  o.levels = 2;
-  o.grading_depth = 1;
-  auto deviation = [&](const SceneMeshes& meshes, int& rim_vertices) {
-    const PatternContext ctx(scene, meshes);
-    const LoadCase lc = resolve_load_case(scene, meshes.sim);
-    const ConformingVerification v = verify_conforming(scene, meshes, lc, ctx, stencils, o);
-    EXPECT_EQ(v.levels.size(), 2u);
-    EXPECT_TRUE(v.supports_consistent) << v.support_change;
-    const SurfaceMesh& mesh = v.conforming_mesh;
-    const std::vector<bool> outer = outer_boundary_vertices(mesh, meshes);
-    double worst = 0;
-    rim_vertices = 0;
-    for (int i = 0; i < mesh.num_vertices(); ++i) {
-      const Vec3 p = mesh.vertices().row(i).transpose();
-      if (outer[size_t(i)]) {
-        ++rim_vertices;
-        worst = std::max({worst, std::abs(std::hypot(p.x(), p.y()) - rim), std::abs(p.z() - depth)});
-      } else {
-        worst = std::max(worst, std::abs((p - Vec3(0, 0, R)).norm() - R));
-      }
-    }
-    return worst;
-  };
-  SceneMeshes meshes = build_scene_meshes(scene);
-  int rim_vertices = 0;
-  const double exact = deviation(meshes, rim_vertices);
-  EXPECT_LT(exact, 1e-12);
-  EXPECT_GT(rim_vertices, 50);
-  meshes.exact = {};
-  int faceted_rim = 0;
-  const double faceted = deviation(meshes, faceted_rim);
-  std::printf("off the sphere or the rim: %.3g m on the exact surface, %.3g m on the facets\n", exact, faceted);
-  EXPECT_GT(faceted, 1e-6);
-  EXPECT_GT(faceted_rim, 50);
-}
-
 TEST(ConformingVerification, TheChairDesignRemeshesWithoutFlatFaces) {
   // The default chair design (tests/data/designs/chair_stencils.json, `cutwork design chair`), cut
   // and remeshed at verify's default L (half the base mesh's mean edge): CGAL's valence flips
@@ -614,17 +562,14 @@ TEST(ConformingVerification, TheChairDesignSolvesOnItsConformingMesh) {
   EXPECT_TRUE(std::isfinite(v.compliance_ratio));
   // Every bending patch of the conforming mesh is conditioned.
   const SurfaceMesh& mesh = v.conforming_mesh;
-  const std::vector<bool> outer = outer_boundary_vertices(mesh, meshes);
+  const std::vector<bool> outer = boundary_vertices_on_boundary_of(mesh, meshes.base, 1e-9);
   const ShellModel model(mesh, scene.material, resolve_load_case(scene, mesh, &outer, &lc));
   double worst = 0;
   for (const ShellBend& b : model.bends()) worst = std::max(worst, b.rest.weights.cwiseAbs().maxCoeff() * b.rest.area);
   EXPECT_LT(worst, 1e3);
   // The clamped runner (feet on z = 0) is outlined on the conforming mesh by the base mesh's own
   // outline of it, the row where the floor ends (RemeshOptions::feature_edges), not by a line the
-  // level's triangles cut anew: every edge of the level's outline lies on a base outline edge. (The
-  // levels lie on the exact surface, where the fillet rises tangentially from the floor: under the
-  // old bound z < 1e-6 m the selector took √(2R · 1e-6) = 0.35 mm of it too, and the outline went
-  // round those vertices beside a hole; the scene's bound is 1e-9 m, 11 µm.)
+  // level's triangles cut anew: every edge of the level's outline lies on a base outline edge.
   const LoadCase base_case = resolve_load_case(scene, meshes.base);
   const std::vector<int> base_outline = support_outline_edges(meshes.base, base_case.fixed);
   ASSERT_FALSE(base_outline.empty());
