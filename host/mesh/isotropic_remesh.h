@@ -14,8 +14,8 @@
 ///     length) are removed while that segment is at most L long, corners and feature ends kept; no
 ///     line moves. A boundary much finer than L along a straight side (a level coarser than its
 ///     base mesh) otherwise leaves triangles of size L spanning two collinear boundary edges, which
-///     no flip repairs: zero-area faces. (A run's last piece can stay short: the removals stop
-///     where a longer move would flip the fine faces beside it.)
+///     no flip repairs: zero-area faces. (The removals are greedy: a run's last piece can stay
+///     short.)
 ///  2. boundary edges longer than 4/3 L are split at equal intervals (points on the edge);
 ///  3. CGAL's Polygon_mesh_processing::isotropic_remeshing (split long edges, collapse short
 ///     ones, flip towards valence 6, tangential relaxation, projection onto the input surface)
@@ -102,8 +102,8 @@ struct RemeshOptions {
   /// vertices are kept like corners; a pair that is not an input edge is an InputError.
   std::vector<std::array<int, 2>> feature_edges{};
   /// Step 1b: straight runs of the boundary and of the feature lines coarsened to edges of at most
-  /// L. The conforming verification sets it on a level at least twice
-  /// as coarse as its base mesh (solvers/conforming/conforming_verification.h).
+  /// L. The conforming verification sets it on a level at least twice as coarse as its base mesh
+  /// (solvers/conforming/conforming_verification.h kStraightRunCoarsening).
   bool coarsen_straight_runs = false;
 };
 

@@ -73,7 +73,8 @@ inline constexpr double kPeakTolerance = 0.05;
 inline constexpr double kBudgetPredictionMargin = 1.25;
 
 /// A level whose edge length is at least this × the base mesh's mean edge coarsens the straight runs
-/// of the cut's outline and of the support lines before remeshing (RemeshOptions::coarsen_straight_runs): a boundary that much finer than L along a straight side
+/// of the cut's outline and of the support lines before remeshing
+/// (RemeshOptions::coarsen_straight_runs): a boundary that much finer than L along a straight side
 /// leaves triangles spanning two collinear boundary edges, zero-area faces no flip repairs (the
 /// chair on a 5 mm base, verified at 20.4 mm). Levels from the base's own edge length down, the
 /// default, are unchanged.
