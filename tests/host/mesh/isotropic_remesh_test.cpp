@@ -405,7 +405,7 @@ TEST(IsotropicRemesh, FeatureLinesAreKeptThroughTheRemeshAndTheGrading) {
 // Step 1b: the chair's mesh at 5 mm remeshed at 20.4 mm, the level that failed verify with a
 // zero-area face: the straight sides keep their 5 mm edges under 20 mm triangles, and a triangle
 // spanning two collinear side edges has no area. With coarsen_straight_runs the sides' runs are
-// coarsened to edges of at most L first, the outline, its corners and the area kept exactly.
+// coarsened to edges of at most L first, the outline and its corners kept exactly.
 TEST(IsotropicRemesh, StraightRunsAreCoarsenedToTheLevel) {
   const SurfaceMesh input = generate_shape("chair", {}, 0.005);
   RemeshOptions o;
