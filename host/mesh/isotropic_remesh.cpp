@@ -117,6 +117,21 @@ bool keeps_orientation(const Mesh& m, VertexIndex moved, const Point& to, Mesh::
   return true;
 }
 
+/// Collapses edge `e` (between `gone` and `keep`) so that the vertex left is where `keep` was, with
+/// its corner flag, when the link condition holds and no face but `skip`/`skip_too` (those the
+/// collapse removes) flips. Returns whether it collapsed.
+bool collapse_onto(Mesh& m, Mesh::Edge_index e, VertexIndex gone, VertexIndex keep,
+                   Mesh::Property_map<VertexIndex, bool>& corner, Mesh::Face_index skip,
+                   Mesh::Face_index skip_too = Mesh::null_face()) {
+  const Point to = m.point(keep);
+  if (!CGAL::Euler::does_satisfy_link_condition(e, m) || !keeps_orientation(m, gone, to, skip, skip_too)) return false;
+  const bool was_corner = corner[keep];
+  const VertexIndex v = CGAL::Euler::collapse_edge(e, m);  // keeps either end: put it where `keep` was
+  m.point(v) = to;
+  corner[v] = was_corner;
+  return true;
+}
+
 /// Collapses boundary edges shorter than `tau` onto one of their ends (a corner when there is one):
 /// the cut leaves such edges where an outline crosses a mesh edge next to one of its own vertices,
 /// and a protected boundary edge that short would leave a needle beside it. Returns the count.
@@ -136,13 +151,8 @@ int collapse_short_border_edges(Mesh& m, double tau, Mesh::Property_map<VertexIn
       if (CGAL::squared_distance(m.point(a), m.point(b)) >= tau * tau) continue;
       // collapse_edge keeps target(h); the kept position is the corner's, else b's.
       const VertexIndex keep = corner[a] ? a : b, gone = keep == a ? b : a;
-      const Point to = m.point(keep);
       const auto face = m.is_border(h) ? m.face(m.opposite(h)) : m.face(h);
-      if (!CGAL::Euler::does_satisfy_link_condition(e, m) || !keeps_orientation(m, gone, to, face)) continue;
-      const bool was_corner = corner[keep];
-      const VertexIndex v = CGAL::Euler::collapse_edge(e, m);
-      m.point(v) = to;
-      corner[v] = was_corner;
+      if (!collapse_onto(m, e, gone, keep, corner, face)) continue;
       ++count;
       changed = true;
     }
@@ -184,14 +194,8 @@ int merge_straight_runs(Mesh& m, double L, VertexFlags& corner, const EdgeFlags&
       if (!(t > 0 && t < 1) || CGAL::squared_distance(pv, pa + t * (pb - pa)) > 1e-18 * ab2) continue;
       // v collapsed onto a, which keeps its position and its corner flag; the edge v–b, now a–b,
       // keeps its feature flag.
-      const auto e = m.edge(along[0]);
-      if (!CGAL::Euler::does_satisfy_link_condition(e, m) ||
-          !keeps_orientation(m, v, pa, m.face(along[0]), m.face(m.opposite(along[0]))))
+      if (!collapse_onto(m, m.edge(along[0]), v, a, corner, m.face(along[0]), m.face(m.opposite(along[0]))))
         continue;
-      const bool was_corner = corner[a];
-      const VertexIndex kept = CGAL::Euler::collapse_edge(e, m);
-      m.point(kept) = pa;
-      corner[kept] = was_corner;
       ++count;
       changed = true;
     }
