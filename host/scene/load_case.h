@@ -50,6 +50,17 @@ struct FillStiffnessCurve {
   /// over the larger: −1 pure shear, 0 uniaxial, 1 equibiaxial — the largest over the state's
   /// orientation. kBiaxialityNodes values per sample; the last sample holds the dilute limit.
   std::vector<std::vector<double>> membrane_concentration_by_biaxiality, bending_concentration_by_biaxiality;
+  /// The factors above are the worst over the shapes of positive weight (a face's fill ratio does
+  /// not say which shape cut it). Each shape's own (optional; indexed by type, an empty entry for a
+  /// shape that was not calibrated): with the shapes' covered fractions of each face
+  /// (FillRatioEvaluator::covered_by_shape) W_peak mixes them per face instead
+  /// (solvers/objective/peak_energy_density.h).
+  struct ShapeConcentration {
+    std::vector<double> membrane, bending;  ///< K at each sample, as membrane_concentration
+    std::vector<std::vector<double>> membrane_by_biaxiality, bending_by_biaxiality;  ///< as above
+    bool empty() const { return membrane.empty(); }
+  };
+  std::vector<ShapeConcentration> shape_concentration;
   /// The isotropic split (optional; empty: the scalar rule above scales the whole of each element):
   /// r of the bulk (equibiaxial) and shear (deviatoric) moduli separately, membrane and bending,
   /// each (effective modulus / (α · solid modulus)); last = 1. A perforation softens the two modes

@@ -286,6 +286,33 @@ void FillRatioEvaluator::pullback(const Eigen::VectorXd& d_objective_d_alpha,
   m_report.kernels_ms = m_report.total_ms = ms_since(start);
 }
 
+Eigen::MatrixXd FillRatioEvaluator::covered_by_shape() const {
+  const std::vector<kernels::ClipResult>& results = overlaps();
+  const auto& pairs = m_broad.pairs();
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m_alpha.size(), m_shapes->size());
+  for (size_t i = 0; i < pairs.size(); ++i)
+    h(pairs[i].face, m_clip_stencils[size_t(pairs[i].stencil)].shape) += results[i].fraction;
+  return h;
+}
+
+void FillRatioEvaluator::pullback_by_shape(const Eigen::MatrixXd& d_objective_d_covered,
+                                           Eigen::VectorXd& d_objective_d_params) const {
+  if (!m_options.derivatives)
+    throw InternalError("fill ratios: derivatives were switched off for this evaluator");
+  if (d_objective_d_covered.rows() != m_alpha.size() || d_objective_d_covered.cols() != m_shapes->size())
+    throw InternalError("fill ratios: the gradient by shape is " + std::to_string(d_objective_d_covered.rows()) + "×" +
+                        std::to_string(d_objective_d_covered.cols()) + " for " + std::to_string(m_alpha.size()) +
+                        " faces and " + std::to_string(m_shapes->size()) + " shapes");
+  const std::vector<kernels::ClipResult>& results = overlaps();
+  const auto& pairs = m_broad.pairs();
+  d_objective_d_params.setZero(5 * m_num_stencils);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const double g = d_objective_d_covered(pairs[i].face, m_clip_stencils[size_t(pairs[i].stencil)].shape);
+    if (g == 0) continue;
+    for (int k = 0; k < 5; ++k) d_objective_d_params[5 * pairs[i].stencil + k] += g * results[i].d_fraction[k];
+  }
+}
+
 Eigen::SparseMatrix<double, Eigen::RowMajor> FillRatioEvaluator::jacobian() const {
   std::vector<Eigen::Triplet<double>> entries;
   const auto& pairs = m_broad.pairs();

@@ -2,6 +2,7 @@
 #include "solvers/conforming/conforming_verification.h"
 
 #include "solvers/objective/ligament_peak.h"
+#include "solvers/objective/peak_energy_density.h"
 #include "solvers/conforming/richardson.h"
 #include "solvers/conforming/zoom_submodel.h"
 
@@ -31,7 +32,8 @@ namespace {
 /// displacements into `u` when non-null.
 void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const NewtonSettings& settings,
                RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u, const Eigen::VectorXd* concentration_weight = nullptr,
-               Eigen::VectorXd* W_peak = nullptr, const RowMatX3d* start = nullptr) {
+               Eigen::VectorXd* W_peak = nullptr, const RowMatX3d* start = nullptr,
+               const Eigen::MatrixXd* covered = nullptr) {
   Stopwatch sw;
   EquilibriumSolver solver(model, settings);
   if (start) solver.start_from(*start);
@@ -40,7 +42,7 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
     throw SolveError(fmt::format("the {}-triangle shell's equilibrium is unstable (it buckles); the comparison "
                                  "needs a stable equilibrium",
                                  model.num_faces()));
-  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha, concentration_weight);
+  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha, concentration_weight, covered);
   static_cast<EquilibriumScalars&>(q) = s;
   q.vertices = model.num_vertices();
   q.faces = model.num_faces();
@@ -307,12 +309,16 @@ void extrapolate_compliance(ConformingVerification& v) {
 
 Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
                                     const SurfaceMesh& sim, std::span<const StencilParams> stencils,
-                                    FillRatioOptions fill) {
-  if (stencils.empty()) return Eigen::VectorXd::Ones(sim.num_faces());
+                                    FillRatioOptions fill, Eigen::MatrixXd* covered) {
+  if (stencils.empty()) {
+    if (covered) covered->setZero(sim.num_faces(), shapes.size());
+    return Eigen::VectorXd::Ones(sim.num_faces());
+  }
   fill.derivatives = false;
   const FaceBvh sim_bvh(sim);
   FillRatioEvaluator eval(surface, sim_bvh, shapes, &field, fill);
   eval.evaluate(stencils);
+  if (covered) *covered = eval.covered_by_shape();
   return eval.alpha();
 }
 
@@ -347,19 +353,24 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   settings.log = [&v](const std::string& line) { v.notes.push_back(line); };
 
   // 1. The coarse fill-ratio run (design_fill_ratios, with the filter kept for its blend).
-  const Eigen::VectorXd own =
-      fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim, stencils, fill);
+  const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, stencils);
+  // The shapes' covered fractions where W_peak reads each shape's factors (peak_energy_density.h).
+  Eigen::MatrixXd covered;
+  const bool by_shape = !stencils.empty() && concentration_by_shape(mechanics.stiffness_curve);
+  const Eigen::VectorXd own = fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim,
+                                                  stencils, fill, by_shape ? &covered : nullptr);
   const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
   v.alpha = stencils.empty() ? own : filter.apply(own);
+  if (by_shape && !filter.identity())
+    for (Eigen::Index k = 0; k < covered.cols(); ++k) covered.col(k) = filter.apply(covered.col(k));
   // The conforming runs are at α = 1, where every fill rule is the solid.
   Eigen::VectorXd coarse_W_peak;
   RowMatX3d coarse_u;  // the first conforming level starts from it
-  const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, stencils);
   {
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     // W_peak's factors blend as the cell filter does (peak_energy_density.h).
     solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, &coarse_u, filter.identity() ? nullptr : &filter.blend(),
-              &coarse_W_peak);
+              &coarse_W_peak, nullptr, by_shape ? &covered : nullptr);
     v.coarse.edge_length = meshes.sim.mean_edge_length();
     // The material the stencils leave is measured with the faces' own α, as a design measures it
     // (the filter is not exactly area-conserving near borders, cell_filter.h).

@@ -254,10 +254,11 @@ struct ConformingVerification {
 
 /// Fill ratios (#F of `sim`) of `stencils` placed on the surface `surface` (with `shapes` and the
 /// tangent `field`) on the simulation mesh `sim` (CPU kernels unless `fill` says otherwise;
-/// derivatives off). Ones without stencils.
+/// derivatives off). Ones without stencils. With `covered`, also each shape's covered fractions
+/// (FillRatioEvaluator::covered_by_shape: #F × shapes; zeros without stencils).
 Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
                                     const SurfaceMesh& sim, std::span<const StencilParams> stencils,
-                                    FillRatioOptions fill = {});
+                                    FillRatioOptions fill = {}, Eigen::MatrixXd* covered = nullptr);
 
 /// Fill ratios (#F of `sim`) of `stencils` on a simulation mesh of the scene (its own or a refined
 /// one), as the optimiser computes them: the kernels' α, then the scene's cell filter

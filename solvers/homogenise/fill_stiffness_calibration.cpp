@@ -178,6 +178,7 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     out.membrane_anisotropy.assign(grid.size(), 0.0);
     out.bending_anisotropy.assign(grid.size(), 0.0);
   }
+  out.shape_concentration.resize(size_t(shapes.size()));
   for (const StencilShape& shape : shapes.shapes()) {
     const double w = weights[size_t(shape.type)];
     if (w == 0) continue;
@@ -197,6 +198,9 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
       it = cache.emplace(key, calibrate_shape(shape, canonical_material(material.poisson_ratio), options, grid)).first;
     const ShapeCurve c = it->second;
     lock.unlock();
+    out.shape_concentration[size_t(shape.type)] = {c.membrane_concentration, c.bending_concentration,
+                                                   c.membrane_concentration_by_biaxiality,
+                                                   c.bending_concentration_by_biaxiality};
     for (size_t k = 0; k < grid.size(); ++k) {
       out.membrane[k] += w * c.membrane[k];
       out.bending[k] += w * c.bending[k];

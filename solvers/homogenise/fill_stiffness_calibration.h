@@ -25,9 +25,9 @@
 /// scale).
 ///
 /// Concentration factors K (cell_homogenisation.h) ride on the same cell solves: per sample, the
-/// largest over the shapes of positive weight (a face's fill ratio does not say which shape cut
-/// it); below a shape's
-/// lowest fill ratio held like the ratios; the α = 1 sample holds the last cut sample's K (the dilute
+/// largest over the shapes of positive weight (what a face's fill ratio alone can say), and each
+/// such shape's own (shape_concentration: W_peak mixes them per face by the shapes' covered
+/// fractions where it has those); below a shape's lowest fill ratio held like the ratios; the α = 1 sample holds the last cut sample's K (the dilute
 /// side held constant; an uncut face's K = 1 is the consumer's rule, peak_energy_density.h).
 ///
 /// Cost: one cell of 10³–2·10⁴ triangles cut, remeshed and factorised per shape and sample (0.1–1 s

@@ -17,6 +17,10 @@ struct ObjectiveTerms {
   RowMatX3d d_positions;
   /// ∂S/∂α (#F), the explicit dependence on the fill ratios at fixed positions.
   Eigen::VectorXd d_alpha;
+  /// ∂S/∂h (#F × shapes) where S depends on the shapes' covered fractions of each face as well
+  /// (the peak measure's factors by shape, peak_energy_density.h); empty where it does not. The
+  /// equilibrium does not depend on h: this part pulls back directly (StencilledShell).
+  Eigen::MatrixXd d_covered;
 };
 
 /// S(α, x) evaluated at positions x (#V×3) and fill ratios alpha (#F) of `model`. (Which objective

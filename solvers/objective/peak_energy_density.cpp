@@ -51,14 +51,26 @@ std::vector<MonotoneCurve> checked_by_biaxiality(const std::vector<double>& alph
 
 ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
   if (c.membrane_concentration.empty() && c.bending_concentration.empty()) return;
-  m_membrane = checked_concentration(c.alpha, c.membrane_concentration, "membrane");
-  m_bending = checked_concentration(c.alpha, c.bending_concentration, "bending");
+  m_worst.membrane = checked_concentration(c.alpha, c.membrane_concentration, "membrane");
+  m_worst.bending = checked_concentration(c.alpha, c.bending_concentration, "bending");
   m_membrane_ratio = MonotoneCurve(c.alpha, c.membrane);
   m_bending_ratio = MonotoneCurve(c.alpha, c.bending);
-  m_membrane_states = checked_by_biaxiality(c.alpha, c.membrane_concentration_by_biaxiality, "membrane");
-  m_bending_states = checked_by_biaxiality(c.alpha, c.bending_concentration_by_biaxiality, "bending");
-  if (m_membrane_states.empty() != m_bending_states.empty())
+  m_worst.membrane_states = checked_by_biaxiality(c.alpha, c.membrane_concentration_by_biaxiality, "membrane");
+  m_worst.bending_states = checked_by_biaxiality(c.alpha, c.bending_concentration_by_biaxiality, "bending");
+  if (m_worst.membrane_states.empty() != m_worst.bending_states.empty())
     throw InputError("concentration by biaxiality: membrane and bending tables must come together");
+  for (const FillStiffnessCurve::ShapeConcentration& shape : c.shape_concentration) {
+    Factors& f = m_shapes.emplace_back();
+    if (shape.empty()) continue;
+    f.membrane = checked_concentration(c.alpha, shape.membrane, "a shape's membrane");
+    f.bending = checked_concentration(c.alpha, shape.bending, "a shape's bending");
+    f.membrane_states = checked_by_biaxiality(c.alpha, shape.membrane_by_biaxiality, "a shape's membrane");
+    f.bending_states = checked_by_biaxiality(c.alpha, shape.bending_by_biaxiality, "a shape's bending");
+    if (f.membrane_states.size() != m_worst.membrane_states.size() ||
+        f.bending_states.size() != m_worst.bending_states.size())
+      throw InputError("concentration by shape: a shape's tables by biaxiality do not match the curve's");
+    ++m_calibrated_shapes;
+  }
   if (c.split()) {
     m_membrane_bulk = MonotoneCurve(c.alpha, c.membrane_bulk);
     m_membrane_shear = MonotoneCurve(c.alpha, c.membrane_shear);
@@ -67,10 +79,29 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
   }
 }
 
+bool concentration_by_shape(const FillStiffnessCurve& curve) {
+  int calibrated = 0;
+  for (const FillStiffnessCurve::ShapeConcentration& shape : curve.shape_concentration) calibrated += !shape.empty();
+  return calibrated >= 2 && !curve.membrane_concentration.empty();
+}
+
+double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, const double* rho, double* d_alpha,
+                                      double* d_rho) const {
+  const Factors& f = shape >= 0 && shape < num_shapes() && !m_shapes[size_t(shape)].membrane.empty()
+                         ? m_shapes[size_t(shape)]
+                         : m_worst;
+  const MonotoneCurve& worst = bending ? f.bending : f.membrane;
+  if (!rho) {
+    if (d_rho) *d_rho = 0;
+    return apply(worst, alpha, d_alpha, false);
+  }
+  return by_state(bending ? f.bending_states : f.membrane_states, worst, alpha, *rho, d_alpha, d_rho, false);
+}
+
 double ConcentrationMap::by_state(const std::vector<MonotoneCurve>& nodes, const MonotoneCurve& worst, double alpha,
-                                  double rho, double* d_alpha, double* d_rho) {
+                                  double rho, double* d_alpha, double* d_rho, bool ramp) {
   if (d_rho) *d_rho = 0;
-  if (nodes.empty()) return apply(worst, alpha, d_alpha);
+  if (nodes.empty()) return apply(worst, alpha, d_alpha, ramp);
   if (d_alpha) *d_alpha = 0;
   if (alpha >= 1) return 1;
   // Catmull–Rom over the nodes j − 1 … j + 2 around ρ (clamped to the table), tangents by central
@@ -82,7 +113,8 @@ double ConcentrationMap::by_state(const std::vector<MonotoneCurve>& nodes, const
   const int j = std::clamp(int((r + 1) / h), 0, n - 2);
   const double t = std::clamp((r - biaxiality_node(j)) / h, 0.0, 1.0);
   std::array<double, 4> v{}, dv{};
-  for (int i = 0; i < 4; ++i) v[size_t(i)] = apply(nodes[size_t(std::clamp(j - 1 + i, 0, n - 1))], alpha, &dv[size_t(i)]);
+  for (int i = 0; i < 4; ++i)
+    v[size_t(i)] = apply(nodes[size_t(std::clamp(j - 1 + i, 0, n - 1))], alpha, &dv[size_t(i)], ramp);
   const auto tangent = [&](const std::array<double, 4>& y, int i) {  // at node j − 1 + i, i = 1, 2
     const int node = j - 1 + i;
     if (node == 0) return y[size_t(i + 1)] - y[size_t(i)];
@@ -113,13 +145,13 @@ Eigen::Vector2d ConcentrationMap::split_ratios(bool bending, double alpha, Eigen
   return r;
 }
 
-double ConcentrationMap::apply(const MonotoneCurve& k, double alpha, double* slope) {
+double ConcentrationMap::apply(const MonotoneCurve& k, double alpha, double* slope, bool ramp) {
   if (slope) *slope = 0;
   if (k.empty() || alpha >= 1) return 1;
   double dk = 0;
   const double K = k(alpha, slope ? &dk : nullptr);
   const double t = (1 - alpha) / kConcentrationRamp;
-  if (t >= 1) {
+  if (t >= 1 || !ramp) {
     if (slope) *slope = dk;
     return K;
   }
@@ -243,47 +275,114 @@ RowMatX3d scatter_state_gradients(const ShellModel& model, const std::vector<Fac
 
 /// W_peak_t = a W_t + b M_t (M_t the membrane part of W_t) at α_t = alpha with blend weight w, and
 /// da/dα, db/dα (the header's rule); by state, the α-derivatives include ρ's, and rho_m, rho_b are
-/// ∂(k_m q_m)/∂ρ^m and ∂(k_b q_b)/∂ρ^b (W_peak = k_b q_b (W − M) + k_m q_m M).
+/// ∂(k_m q_m)/∂ρ^m and ∂(k_b q_b)/∂ρ^b (W_peak = k_b q_b (W − M) + k_m q_m M). By shape, da_dh and
+/// db_dh hold ∂a/∂h_s and ∂b/∂h_s (one per shape).
 struct PeakCoefficients {
   double a = 1, b = 0, da = 0, db = 0, rho_m = 0, rho_b = 0;
+  std::vector<double> da_dh, db_dh;
 };
 
+/// One part's factor k and its slopes: dk/dα (at fixed ρ), dk/dρ, and by shape dk/dh_s.
+struct PartFactor {
+  double k = 1, d_alpha = 0, d_rho = 0;
+  std::vector<double> d_h;
+};
+
+/// The part's factor by shape (the header's rule): K − 1 = ‖x‖_p over the shapes, x_s = s(h_s/δ)(K_s − 1)
+/// with K_s unramped; `h` the face's covered fractions.
+PartFactor shape_mix(const ConcentrationMap& K, bool bending, double alpha, const double* rho,
+                     const Eigen::Ref<const Eigen::RowVectorXd>& h) {
+  const int n = int(h.size());
+  PartFactor f;
+  f.d_h.assign(size_t(n), 0.0);
+  std::vector<double> x(size_t(n), 0.0), dx_alpha(size_t(n), 0.0), dx_rho(size_t(n), 0.0), dx_h(size_t(n), 0.0);
+  double max_x = 0;
+  for (int s = 0; s < n; ++s) {
+    if (!(h[s] > 0)) continue;
+    double dk = 0, dk_rho = 0;
+    const double k = K.shape_factor(s, bending, alpha, rho, &dk, &dk_rho);
+    const double t = h[s] / kConcentrationRamp;
+    // The ramp in the shape's covered fraction: s(t) = 3t² − 2t³ below t = 1.
+    const double ramp = t >= 1 ? 1 : t * t * (3 - 2 * t), d_ramp = t >= 1 ? 0 : 6 * t * (1 - t) / kConcentrationRamp;
+    x[size_t(s)] = ramp * (k - 1);
+    dx_alpha[size_t(s)] = ramp * dk;
+    dx_rho[size_t(s)] = ramp * dk_rho;
+    dx_h[size_t(s)] = d_ramp * (k - 1);
+    max_x = std::max(max_x, x[size_t(s)]);
+  }
+  if (!(max_x > 0)) return f;
+  // ‖x‖_p scaled by the largest x against overflow; ∂‖x‖_p/∂x_s = (x_s/‖x‖_p)^(p−1).
+  double sum = 0;
+  for (const double xs : x) sum += std::pow(xs / max_x, kShapeNorm);
+  const double norm = max_x * std::pow(sum, 1 / kShapeNorm);
+  f.k = 1 + norm;
+  for (int s = 0; s < n; ++s) {
+    const double g = std::pow(x[size_t(s)] / norm, kShapeNorm - 1);
+    f.d_alpha += g * dx_alpha[size_t(s)];
+    f.d_rho += g * dx_rho[size_t(s)];
+    f.d_h[size_t(s)] = g * dx_h[size_t(s)];
+  }
+  return f;
+}
+
+/// The part's factor from the worst shape's curves (the rule without shapes).
+PartFactor worst_factor(const ConcentrationMap& K, bool bending, double alpha, const double* rho) {
+  PartFactor f;
+  if (rho)
+    f.k = bending ? K.bending(alpha, *rho, &f.d_alpha, &f.d_rho) : K.membrane(alpha, *rho, &f.d_alpha, &f.d_rho);
+  else
+    f.k = bending ? K.bending(alpha, &f.d_alpha) : K.membrane(alpha, &f.d_alpha);
+  return f;
+}
+
+/// `h`: the face's covered fractions by shape (null: the worst shape's factors).
 PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const ConcentrationMap& K, double alpha, double w,
-                                   const FaceState* state) {
+                                   const FaceState* state, const Eigen::RowVectorXd* h = nullptr) {
   PeakCoefficients c;
   if (alpha >= 1) return c;
-  double dkm = 0, dkb = 0, dqm = 0, dqb = 0, dkm_rho = 0, dkb_rho = 0;
-  double km = 0, kb = 0;
-  if (state) {
-    km = K.membrane(alpha, state->membrane.rho, &dkm, &dkm_rho);
-    dkm += dkm_rho * state->membrane.d_alpha;
-  } else {
-    km = K.membrane(alpha, &dkm);
-  }
-  if (state && state->bend) {
-    kb = K.bending(alpha, state->bending.rho, &dkb, &dkb_rho);
-    dkb += dkb_rho * state->bending.d_alpha;
-  } else {
-    kb = K.bending(alpha, &dkb);
-  }
-  km = 1 + w * (km - 1), kb = 1 + w * (kb - 1);
-  dkm *= w, dkb *= w, dkm_rho *= w, dkb_rho *= w;
+  const double* rho_m = state && K.by_biaxiality() ? &state->membrane.rho : nullptr;
+  const double* rho_b = state && state->bend && K.by_biaxiality() ? &state->bending.rho : nullptr;
+  const bool by_shape = h && K.by_shape() && h->sum() > 0;
+  PartFactor m = by_shape ? shape_mix(K, false, alpha, rho_m, *h) : worst_factor(K, false, alpha, rho_m);
+  PartFactor b = by_shape ? shape_mix(K, true, alpha, rho_b, *h) : worst_factor(K, true, alpha, rho_b);
+  // ρ's own α-dependence (through the split's ratios).
+  if (rho_m) m.d_alpha += m.d_rho * state->membrane.d_alpha;
+  if (rho_b) b.d_alpha += b.d_rho * state->bending.d_alpha;
+  const double km = 1 + w * (m.k - 1), kb = 1 + w * (b.k - 1);
+  const double dkm = w * m.d_alpha, dkb = w * b.d_alpha;
   // q: perforated material's mean energy density over the model's (1 where the model's elements
   // are the homogenised ones; the calibrated ratio ρ under the linear rule, whose r is 1).
-  double qm = 1, qb = 1;
+  double qm = 1, qb = 1, dqm = 0, dqb = 0;
   if (g.linear()) qm = K.membrane_ratio(alpha, &dqm), qb = K.bending_ratio(alpha, &dqb);
   c.a = kb * qb;
   c.da = dkb * qb + kb * dqb;
   c.b = km * qm - c.a;
   c.db = dkm * qm + km * dqm - c.da;
-  c.rho_m = dkm_rho * qm;
-  c.rho_b = dkb_rho * qb;
+  c.rho_m = w * m.d_rho * qm;
+  c.rho_b = w * b.d_rho * qb;
+  if (by_shape) {
+    c.da_dh.resize(m.d_h.size());
+    c.db_dh.resize(m.d_h.size());
+    for (size_t s = 0; s < m.d_h.size(); ++s) {
+      c.da_dh[s] = w * b.d_h[s] * qb;
+      c.db_dh[s] = w * m.d_h[s] * qm - c.da_dh[s];
+    }
+  }
   return c;
 }
 
 void check_weight(const ShellModel& model, const Eigen::VectorXd* weight) {
   if (weight && weight->size() != model.num_faces())
     throw InternalError("peak_energy_density: the weights do not match the faces");
+}
+
+/// `covered` when the rule by shape applies (K.by_shape()), null otherwise.
+const Eigen::MatrixXd* checked_covered(const ShellModel& model, const ConcentrationMap& K,
+                                       const Eigen::MatrixXd* covered) {
+  if (!covered || !K.by_shape()) return nullptr;
+  if (covered->rows() != model.num_faces() || covered->cols() != K.num_shapes())
+    throw InternalError("peak_energy_density: the covered fractions do not match the faces and the shapes");
+  return covered;
 }
 
 }  // namespace
@@ -300,25 +399,31 @@ Eigen::MatrixX2d stress_biaxiality(const ShellModel& model, const RowMatX3d& x, 
 }
 
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                    const ConcentrationMap& K, const Eigen::VectorXd* weight) {
+                                    const ConcentrationMap& K, const Eigen::VectorXd* weight,
+                                    const Eigen::MatrixXd* covered) {
   check_weight(model, weight);
+  covered = checked_covered(model, K, covered);
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
   const std::vector<FaceState> states = K.by_biaxiality() ? face_states(model, x, alpha, K) : std::vector<FaceState>{};
   Eigen::VectorXd peak(model.num_faces());
-  for (int t = 0; t < model.num_faces(); ++t) {
+  tbb::parallel_for(0, model.num_faces(), [&](int t) {
+    const Eigen::RowVectorXd h = covered ? Eigen::RowVectorXd(covered->row(t)) : Eigen::RowVectorXd();
     const PeakCoefficients c = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0,
-                                                 states.empty() ? nullptr : &states[size_t(t)]);
+                                                 states.empty() ? nullptr : &states[size_t(t)], covered ? &h : nullptr);
     peak[t] = c.a * W[t] + c.b * M[t];
-  }
+  });
   return peak;
 }
 
 void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                              const ConcentrationMap& K, const Eigen::VectorXd* weight, const Eigen::VectorXd& c,
-                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha) {
+                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha, const Eigen::MatrixXd* covered,
+                             Eigen::MatrixXd* d_covered) {
   check_weight(model, weight);
+  const Eigen::MatrixXd* mix = checked_covered(model, K, covered);
   const int nf = model.num_faces();
+  if (d_covered) d_covered->setZero(nf, covered ? covered->cols() : 0);
   if (c.size() != nf) throw InternalError("peak_energy_density_vjp: the weights c do not match the faces");
   const bool by_state = K.by_biaxiality();
   const std::vector<FaceState> states =
@@ -327,13 +432,16 @@ void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const 
   const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
   Eigen::VectorXd ca(nf), cb(nf), dca(nf), dcb(nf);
   Eigen::MatrixX2d c_rho = Eigen::MatrixX2d::Zero(nf, 2);  // c_t ∂W_peak_t/∂ρ_t^m, ∂ρ_t^b
-  for (int t = 0; t < nf; ++t) {
+  tbb::parallel_for(0, nf, [&](int t) {
+    const Eigen::RowVectorXd h = mix ? Eigen::RowVectorXd(mix->row(t)) : Eigen::RowVectorXd();
     const PeakCoefficients k = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0,
-                                                 by_state ? &states[size_t(t)] : nullptr);
+                                                 by_state ? &states[size_t(t)] : nullptr, mix ? &h : nullptr);
     ca[t] = c[t] * k.a, cb[t] = c[t] * k.b, dca[t] = c[t] * k.da, dcb[t] = c[t] * k.db;
     c_rho(t, 0) = c[t] * k.rho_m * M[t];
     c_rho(t, 1) = c[t] * k.rho_b * (W[t] - M[t]);
-  }
+    if (d_covered)
+      for (size_t s = 0; s < k.da_dh.size(); ++s) (*d_covered)(t, Eigen::Index(s)) = c[t] * (k.da_dh[s] * W[t] + k.db_dh[s] * M[t]);
+  });
   // Σ c a W + Σ c b M: through the densities' own vector–Jacobian products, plus the coefficients'
   // own α-derivatives (ρ's included), plus, by state, the factors' dependence on x through ρ.
   energy_density_vjp(model, x, alpha, ca, d_positions, d_alpha);

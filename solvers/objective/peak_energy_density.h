@@ -56,6 +56,23 @@
 /// equibiaxial state the rim's peak moves between points (a max of two smooth functions), and a
 /// face at exactly tr = 0 or dev = 0 takes the subgradient 0.
 ///
+/// K by shape (a design of two or more shapes whose curve carries each shape's own factors, when
+/// the caller gives the shapes' covered fractions h_ts of each face: the part of face t that the
+/// stencils of shape s cover, FillRatioEvaluator::covered_by_shape, filtered as α is). A face's fill
+/// ratio does not say which shape cut it — the worst shape's K above then applies to every face,
+/// which on the bowl gave a face cut by a small circle the flower's factor — its covered fractions
+/// do. The peak over a face's material is at the rim of the worst hole it holds, so per part
+///     K_t − 1 = (Σ_s x_ts^p)^(1/p),   x_ts = s(h_ts/δ) (K_s(α_t, ρ_t) − 1),   p = kShapeNorm,
+/// K_s the shape's own factor without the ramp in α and s the ramp's smoothstep (1 for h ≥ δ): a
+/// shape that barely reaches a face holds no rim there, as a stencil that barely touches it above.
+/// The p-norm is a smooth maximum: the largest x where one dominates, at most 2^(1/p) above it
+/// where two are equal (4.4% for p = 16); its gradient is bounded, so with s'(0) = 0 the rule stays
+/// C¹ where a shape first enters a face. A face of one shape has that shape's ramped factor — the
+/// rule above with 1 − α → h_t — and a design of one shape keeps the rule above exactly (its worst
+/// shape is its only one). W_peak then depends on the stencils through h too: ∂W_peak_t/∂h_ts
+/// (peak_energy_density_vjp's d_covered), pulled back through the clipping
+/// (FillRatioEvaluator::pullback_by_shape).
+///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
 ///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
 /// with k the blended factors; a = 1, b = 0 at α = 1. The weights w (the cell filter's blend) do not
@@ -73,7 +90,9 @@ namespace cutwork::solvers {
 /// The rule above in a line, for reports.
 inline constexpr const char* kPeakEnergyDensityRule =
     "W_peak = K_m(alpha, rho_m) W_membrane + K_b(alpha, rho_b) W_bending per face, K = peak/mean energy density over "
-    "a periodic cell's material from the cell problems (worst over shapes and orientations, at the face's biaxiality rho "
+    "a periodic cell's material from the cell problems (worst over orientations; with several shapes, per face a smooth "
+    "maximum (16-norm) over the shapes that cover part of it, each ramped to 1 as its covered fraction goes to 0 over "
+    "[0, 0.05]; at the face's biaxiality rho "
     "of stress and of moment: -1 pure shear, 0 uniaxial, 1 equibiaxial; the worst state's K for hinge bending and "
     "uncalibrated states; K ramps to 1 over alpha in [0.95, 1] "
     "and is 1 at alpha = 1; blended towards 1 where the cell filter says a face resolves its stencils); max over "
@@ -82,8 +101,10 @@ inline constexpr const char* kPeakEnergyDensityRule =
 inline constexpr const char* kPeakEnergyDensityAbsent =
     "not computed: no concentration factors (mechanics.stiffness is not homogenised)";
 
-/// δ of the ramp of K to 1 near α = 1 (above).
+/// δ of the ramp of K to 1 near α = 1 (above), and of a shape's covered fraction (K by shape).
 inline constexpr double kConcentrationRamp = 0.05;
+/// p of the smooth maximum over the shapes in a face (K by shape).
+inline constexpr double kShapeNorm = 16;
 
 /// K_m(α), K_b(α) of a calibrated curve.
 class ConcentrationMap {
@@ -94,21 +115,31 @@ class ConcentrationMap {
   /// samples of the wrong size or below 1.
   explicit ConcentrationMap(const FillStiffnessCurve& curve);
 
-  bool empty() const { return m_membrane.empty(); }
+  bool empty() const { return m_worst.membrane.empty(); }
   /// True when the curve carries K by biaxiality (membrane and bending).
-  bool by_biaxiality() const { return !m_membrane_states.empty(); }
+  bool by_biaxiality() const { return !m_worst.membrane_states.empty(); }
+  /// True when the curve carries the factors of two or more shapes of its own
+  /// (FillStiffnessCurve::shape_concentration): W_peak then mixes them per face when it is given
+  /// the shapes' covered fractions (the rule by shape above).
+  bool by_shape() const { return m_calibrated_shapes >= 2; }
+  /// Number of shapes the factors by shape are indexed by (the library's; 0 without them).
+  int num_shapes() const { return int(m_shapes.size()); }
   /// The worst state's K_m(α) with the ramp to 1 above (1 for α ≥ 1, and when empty()); dK_m/dα
   /// into `slope`.
-  double membrane(double alpha, double* slope = nullptr) const { return apply(m_membrane, alpha, slope); }
-  double bending(double alpha, double* slope = nullptr) const { return apply(m_bending, alpha, slope); }
+  double membrane(double alpha, double* slope = nullptr) const { return apply(m_worst.membrane, alpha, slope); }
+  double bending(double alpha, double* slope = nullptr) const { return apply(m_worst.bending, alpha, slope); }
   /// K_m(α, ρ) at biaxiality ρ ∈ [−1, 1] (clamped) with the ramp; the worst state's K_m(α) when
   /// !by_biaxiality(). dK/dα, dK/dρ into the slopes (either may be null).
   double membrane(double alpha, double rho, double* d_alpha, double* d_rho) const {
-    return by_state(m_membrane_states, m_membrane, alpha, rho, d_alpha, d_rho);
+    return by_state(m_worst.membrane_states, m_worst.membrane, alpha, rho, d_alpha, d_rho, true);
   }
   double bending(double alpha, double rho, double* d_alpha, double* d_rho) const {
-    return by_state(m_bending_states, m_bending, alpha, rho, d_alpha, d_rho);
+    return by_state(m_worst.bending_states, m_worst.bending, alpha, rho, d_alpha, d_rho, true);
   }
+  /// Shape `shape`'s own factor, membrane or bending, *without* the ramp in α (the rule by shape
+  /// ramps by the shape's covered fraction instead), at biaxiality `rho` (null: the worst state's);
+  /// the worst over the shapes for a shape the curve has no factors of. Slopes as above.
+  double shape_factor(int shape, bool bending, double alpha, const double* rho, double* d_alpha, double* d_rho) const;
   /// r_K(α), r_G(α) of the split (1 each without it, and for α ≥ 1), the α-slopes into `slope`.
   Eigen::Vector2d split_ratios(bool bending, double alpha, Eigen::Vector2d* slope = nullptr) const;
   /// The calibrated ratios ρ = g/α of the curve the factors came with (1 for α ≥ 1).
@@ -116,14 +147,25 @@ class ConcentrationMap {
   double bending_ratio(double alpha, double* slope = nullptr) const { return ratio(m_bending_ratio, alpha, slope); }
 
  private:
-  static double apply(const MonotoneCurve& k, double alpha, double* slope);
+  /// One set of factors: the worst state's curves in α and, by biaxiality, one curve per node.
+  struct Factors {
+    MonotoneCurve membrane, bending;
+    std::vector<MonotoneCurve> membrane_states, bending_states;
+  };
+  static double apply(const MonotoneCurve& k, double alpha, double* slope, bool ramp = true);
   static double ratio(const MonotoneCurve& r, double alpha, double* slope);
   static double by_state(const std::vector<MonotoneCurve>& nodes, const MonotoneCurve& worst, double alpha, double rho,
-                         double* d_alpha, double* d_rho);
-  MonotoneCurve m_membrane, m_bending, m_membrane_ratio, m_bending_ratio;
-  std::vector<MonotoneCurve> m_membrane_states, m_bending_states;  ///< K at each biaxiality node, in α
+                         double* d_alpha, double* d_rho, bool ramp);
+  Factors m_worst;
+  std::vector<Factors> m_shapes;  ///< by shape type; a Factors with empty curves for a shape without its own
+  int m_calibrated_shapes = 0;
+  MonotoneCurve m_membrane_ratio, m_bending_ratio;
   MonotoneCurve m_membrane_bulk, m_membrane_shear, m_bending_bulk, m_bending_shear;  ///< the split's r
 };
+
+/// True when `curve` carries two or more shapes' own factors: W_peak then wants the shapes' covered
+/// fractions (ConcentrationMap(curve).by_shape(), without building the map).
+bool concentration_by_shape(const FillStiffnessCurve& curve);
 
 /// W_peak (#F, J/m²) of the rule above at positions x (#V×3) and fill ratios alpha (#F).
 /// `weight` (#F in [0, 1], optional; null: all ones): how far each face is from resolving its
@@ -131,9 +173,12 @@ class ConcentrationMap {
 /// of a hole itself (w = 0: the cell filter's blend b of solvers/shell/cell_filter.h, 0 where four
 /// or more triangles span a stencil) is not concentrated a second time. Only K is blended: the
 /// ratios r convert the model's W into perforated material's mean W and stay as they are.
+/// `covered` (#F × K.num_shapes(), optional): the shapes' covered fractions h_ts (K by shape, above);
+/// used when K.by_shape(), and a face whose row sums to 0 takes the worst shape's factors.
 /// Precondition: !K.empty().
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
-                                    const ConcentrationMap& K, const Eigen::VectorXd* weight = nullptr);
+                                    const ConcentrationMap& K, const Eigen::VectorXd* weight = nullptr,
+                                    const Eigen::MatrixXd* covered = nullptr);
 
 /// Per face the biaxiality ρ (above) of its membrane state (column 0) and of its bending state
 /// (column 1; NaN without a shape-operator bend), #F×2, at fill ratios alpha; 0 for a face without
@@ -142,10 +187,12 @@ Eigen::MatrixX2d stress_biaxiality(const ShellModel& model, const RowMatX3d& x, 
                                    const ConcentrationMap& K);
 
 /// For weights c (#F): Σ_t c_t ∂W_peak_t/∂x into d_positions (#V×3; rows of fixed vertices zero)
-/// and Σ_t c_t ∂W_peak_t/∂α into d_alpha (#F), at fixed `weight`. Either output may be null. The
-/// twin of energy_density_vjp for an objective built on W_peak.
+/// and Σ_t c_t ∂W_peak_t/∂α into d_alpha (#F), at fixed `weight`, and with `covered` (K by shape)
+/// c_t ∂W_peak_t/∂h_ts into d_covered (#F × K.num_shapes(); zeros where the rule by shape does not
+/// apply). Any output may be null. The twin of energy_density_vjp for an objective built on W_peak.
 void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                              const ConcentrationMap& K, const Eigen::VectorXd* weight, const Eigen::VectorXd& c,
-                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha);
+                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha,
+                             const Eigen::MatrixXd* covered = nullptr, Eigen::MatrixXd* d_covered = nullptr);
 
 }  // namespace cutwork::solvers

@@ -106,13 +106,28 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
       j["membrane_concentration_by_biaxiality"] = c.membrane_concentration_by_biaxiality;
       j["bending_concentration_by_biaxiality"] = c.bending_concentration_by_biaxiality;
     }
-    // Each shape's weight in the curve (its share of the run's stencils by count), by name.
-    if (!c.shape_weights.empty()) {
+    // Each shape's weight in the curve (its share of the run's stencils by count), by name, and
+    // each shape's own concentration factors (W_peak mixes them per face by the shapes' covered
+    // fractions, peak_energy_density.h).
+    if (!c.shape_weights.empty() || !c.shape_concentration.empty()) {
       const StencilLibrary shapes = scene_stencil_library(scene);
-      nlohmann::json weights = nlohmann::json::object();
-      for (const StencilShape& shape : shapes.shapes())
-        if (size_t(shape.type) < c.shape_weights.size()) weights[shape.name] = c.shape_weights[size_t(shape.type)];
-      r["mechanics"]["stiffness_curve"]["shape_weights"] = weights;
+      nlohmann::json weights = nlohmann::json::object(), by_shape = nlohmann::json::object();
+      for (const StencilShape& shape : shapes.shapes()) {
+        const size_t k = size_t(shape.type);
+        if (k < c.shape_weights.size()) weights[shape.name] = c.shape_weights[k];
+        if (k < c.shape_concentration.size() && !c.shape_concentration[k].empty()) {
+          const FillStiffnessCurve::ShapeConcentration& K = c.shape_concentration[k];
+          nlohmann::json& j = by_shape[shape.name];
+          j["membrane_concentration"] = K.membrane;
+          j["bending_concentration"] = K.bending;
+          if (!K.membrane_by_biaxiality.empty()) {
+            j["membrane_concentration_by_biaxiality"] = K.membrane_by_biaxiality;
+            j["bending_concentration_by_biaxiality"] = K.bending_by_biaxiality;
+          }
+        }
+      }
+      if (!c.shape_weights.empty()) r["mechanics"]["stiffness_curve"]["shape_weights"] = weights;
+      if (!by_shape.empty()) r["mechanics"]["stiffness_curve"]["concentration_by_shape"] = by_shape;
     }
   }
   r["timings"] = timings_json(timings);

@@ -1,0 +1,294 @@
+// W_peak's factors by shape (solvers/objective/peak_energy_density.h, "K by shape"): a face covered
+// by one shape reads that shape's factors, exactly the one-shape rule; a face of several shapes the
+// smooth maximum, between the largest and 2^(1/p) times it; without covered fractions, or with a
+// row of zeros, the worst shape's factors as before. And the vector–Jacobian products in h (with
+// those in x and α) against central differences, through the ramp of a shape entering a face.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "host/core/error.h"
+#include "solvers/objective/energy_density.h"
+#include "solvers/objective/peak_energy_density.h"
+#include "solvers/objective/structural_objective.h"
+#include "solvers/objective/structural_quantities.h"
+#include "tests/solvers/support/finite_difference.h"
+#include "tests/solvers/support/shell_fixtures.h"
+
+namespace cutwork::solvers {
+namespace {
+
+/// K(ρ) tables from worst-state samples (as peak_energy_density_test's): 1 + (K − 1)(0.8 + 0.1ρ − 0.15ρ²).
+std::vector<std::vector<double>> biaxiality_table(const std::vector<double>& worst) {
+  std::vector<std::vector<double>> t;
+  for (const double k : worst) {
+    std::vector<double> row;
+    for (int j = 0; j < kBiaxialityNodes; ++j) {
+      const double r = biaxiality_node(j);
+      row.push_back(1 + (k - 1) * (0.8 + 0.1 * r - 0.15 * r * r));
+    }
+    t.push_back(row);
+  }
+  return t;
+}
+
+/// Two shapes on the test curve's samples (α = 0.3 0.45 0.6 0.75 0.9 1): a mild one (circle-like)
+/// and a sharp one whose factors are larger at some samples and smaller at others (so that neither
+/// is the worst everywhere), the worst the samplewise maximum as the calibration makes it.
+struct TwoShapes {
+  std::vector<double> km[2] = {{2.9, 2.6, 2.5, 2.3, 2.2, 2.1}, {3.4, 4.5, 5.0, 4.8, 1.9, 1.8}};
+  std::vector<double> kb[2] = {{1.8, 1.7, 1.6, 1.55, 1.5, 1.45}, {2.2, 1.5, 2.6, 2.7, 2.8, 2.6}};
+
+  /// The curve with both shapes' own factors (`which` < 0) or with shape `which`'s alone as the
+  /// curve's only (worst) factors.
+  FillStiffnessCurve curve(bool by_state, int which = -1) const {
+    FillStiffnessCurve c = test::test_stiffness_curve();
+    const size_t n = c.alpha.size();
+    std::vector<double> wm(n), wb(n);
+    for (size_t i = 0; i < n; ++i) {
+      wm[i] = which >= 0 ? km[which][i] : std::max(km[0][i], km[1][i]);
+      wb[i] = which >= 0 ? kb[which][i] : std::max(kb[0][i], kb[1][i]);
+    }
+    c.membrane_concentration = wm;
+    c.bending_concentration = wb;
+    if (by_state) {
+      c.membrane_concentration_by_biaxiality = biaxiality_table(wm);
+      c.bending_concentration_by_biaxiality = biaxiality_table(wb);
+    }
+    if (which < 0)
+      for (int s = 0; s < 2; ++s) {
+        FillStiffnessCurve::ShapeConcentration k{km[s], kb[s], {}, {}};
+        if (by_state) k.membrane_by_biaxiality = biaxiality_table(km[s]), k.bending_by_biaxiality = biaxiality_table(kb[s]);
+        c.shape_concentration.push_back(k);
+      }
+    return c;
+  }
+};
+
+ShellModel with_curve(const test::CapFixture& fx, const FillStiffnessCurve& curve) {
+  MechanicsSettings mech = fx.model->mechanics();
+  mech.stiffness_curve = curve;
+  return ShellModel(fx.mesh, test::pa12(), fx.lc, mech);
+}
+
+/// Fill ratios across the samples and in the ramp near 1, with covered fractions that add up to
+/// 1 − α, split between the shapes by `share` (shape 1's part; 0: shape 0 alone).
+Eigen::MatrixXd split_cover(const Eigen::VectorXd& alpha, const Eigen::VectorXd& share) {
+  Eigen::MatrixXd h(alpha.size(), 2);
+  for (Eigen::Index t = 0; t < alpha.size(); ++t) {
+    h(t, 1) = share[t] * (1 - alpha[t]);
+    h(t, 0) = (1 - alpha[t]) - h(t, 1);
+  }
+  return h;
+}
+
+Eigen::VectorXd varied_alpha(const test::CapFixture& fx) {
+  Eigen::VectorXd alpha = fx.alpha;
+  const double ramp[] = {0.955, 0.97, 0.985, 0.994};
+  for (int t = 0; t < alpha.size(); t += 5) alpha[t] = ramp[(t / 5) % 4];
+  return alpha;
+}
+
+// One shape in every face: the rule by shape is the one-shape rule of that shape's factors, face
+// by face, whatever the state rule, the blend weights and the ramp (1 − α = h, so the ramp in h is
+// the ramp in α).
+TEST(PeakByShape, AFaceOfOneShapeReadsThatShapesFactors) {
+  const TwoShapes shapes;
+  for (bool by_state : {false, true}) {
+    SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
+    test::CapFixture fx(71, BendingModel::ShapeOperator, FillStiffness::Homogenised);
+    const ShellModel model = with_curve(fx, shapes.curve(by_state));
+    const ConcentrationMap K(model.mechanics().stiffness_curve);
+    ASSERT_TRUE(K.by_shape());
+    ASSERT_EQ(K.num_shapes(), 2);
+    ASSERT_TRUE(concentration_by_shape(model.mechanics().stiffness_curve));
+    const RowMatX3d x = fx.perturbed(72);
+    const Eigen::VectorXd alpha = varied_alpha(fx);
+    Eigen::VectorXd w(model.num_faces());
+    for (int t = 0; t < w.size(); ++t) w[t] = (t % 3) / 2.0;
+    for (int s = 0; s < 2; ++s) {
+      SCOPED_TRACE(s == 0 ? "shape 0 alone" : "shape 1 alone");
+      const Eigen::MatrixXd h = split_cover(alpha, Eigen::VectorXd::Constant(alpha.size(), double(s)));
+      const ShellModel own_model = with_curve(fx, shapes.curve(by_state, s));
+      const ConcentrationMap own(own_model.mechanics().stiffness_curve);
+      ASSERT_FALSE(own.by_shape());
+      const Eigen::VectorXd P = peak_energy_density(model, x, alpha, K, &w, &h);
+      const Eigen::VectorXd P_own = peak_energy_density(own_model, x, alpha, own, &w);
+      for (int t = 0; t < P.size(); ++t) EXPECT_NEAR(P[t], P_own[t], 1e-12 * P_own.maxCoeff()) << "face " << t;
+    }
+    // Without covered fractions, and for rows of zeros, the worst shape's factors (the rule before).
+    const Eigen::VectorXd P_worst = peak_energy_density(model, x, alpha, K, &w);
+    const ShellModel worst_model = with_curve(fx, [&] {
+      FillStiffnessCurve c = shapes.curve(by_state);
+      c.shape_concentration.clear();
+      return c;
+    }());
+    const Eigen::VectorXd P_before = peak_energy_density(worst_model, x, alpha, ConcentrationMap(worst_model.mechanics().stiffness_curve), &w);
+    EXPECT_EQ((P_worst - P_before).norm(), 0.0);
+    const Eigen::MatrixXd zeros = Eigen::MatrixXd::Zero(alpha.size(), 2);
+    EXPECT_EQ((peak_energy_density(model, x, alpha, K, &w, &zeros) - P_before).norm(), 0.0);
+  }
+}
+
+// Two shapes in a face, each past the ramp (h ≥ δ): K − 1 lies between the larger of the two
+// shapes' K − 1 and 2^(1/p) times it — the smooth maximum, not the mean and not the sum — and the
+// worst shape's K (the samplewise maximum, which takes membrane and bending from different shapes
+// at some samples) is never exceeded by more than that factor.
+TEST(PeakByShape, AFaceOfTwoShapesReadsTheSmoothMaximum) {
+  const TwoShapes shapes;
+  test::CapFixture fx(73, BendingModel::ShapeOperator, FillStiffness::Homogenised);
+  const FillStiffnessCurve curve = shapes.curve(false);
+  const ConcentrationMap K(curve);
+  // A uniform membrane state isolates K_m: W_peak − W over W^memb. Read K_m directly instead
+  // through shape_factor and a face's mixture.
+  const double bound = std::pow(2.0, 1 / kShapeNorm);
+  for (const double a : {0.3, 0.5, 0.6}) {
+    const double k0 = K.shape_factor(0, false, a, nullptr, nullptr, nullptr);
+    const double k1 = K.shape_factor(1, false, a, nullptr, nullptr, nullptr);
+    const double largest = std::max(k0, k1) - 1;
+    // Through the peak rule: a flat face stretched in its plane, W_peak/W = K_m.
+    const SurfaceMesh mesh = test::grid_rectangle(0.2, 0.2, 2, 2);
+    LoadCase lc;
+    lc.fixed.assign(mesh.num_vertices(), false);
+    lc.clamped.assign(mesh.num_vertices(), false);
+    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+    for (int v = 0; v < mesh.num_vertices(); ++v)  // the model needs a support; the densities do not see it
+      if (mesh.vertices()(v, 0) < 1e-9) lc.fixed[size_t(v)] = lc.clamped[size_t(v)] = true;
+      else if (mesh.vertices()(v, 0) > 0.2 - 1e-9) lc.forces(v, 0) = 1;
+    MechanicsSettings mech;
+    mech.stiffness = FillStiffness::Homogenised;
+    mech.stiffness_curve = curve;
+    const ShellModel model(mesh, test::pa12(), lc, mech);
+    RowMatX3d x = mesh.vertices();
+    for (int v = 0; v < x.rows(); ++v) x(v, 0) *= 1.001;
+    const Eigen::VectorXd alpha = Eigen::VectorXd::Constant(mesh.num_faces(), a);
+    const Eigen::VectorXd W = energy_density(model, x, alpha);
+    for (const double share : {0.2, 0.5, 0.8}) {
+      const Eigen::MatrixXd h = split_cover(alpha, Eigen::VectorXd::Constant(alpha.size(), share));
+      ASSERT_GE(h.minCoeff(), kConcentrationRamp);
+      const Eigen::VectorXd P = peak_energy_density(model, x, alpha, K, nullptr, &h);
+      for (int t = 0; t < P.size(); ++t) {
+        const double k = P[t] / W[t] - 1;
+        EXPECT_GE(k, largest * (1 - 1e-12)) << "α " << a << " share " << share;
+        EXPECT_LE(k, largest * bound * (1 + 1e-12)) << "α " << a << " share " << share;
+      }
+    }
+  }
+}
+
+// Σ c_t W_peak_t by shape: its gradients in h, α and x against central differences, with faces of
+// one shape, of two, and of a shape inside its ramp (h < δ), with and without blend weights, for
+// the worst state's K and K by biaxiality.
+TEST(PeakByShape, VectorJacobianProductsMatchCentralDifferences) {
+  const TwoShapes shapes;
+  for (bool by_state : {false, true})
+    for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
+      SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
+      SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
+      test::CapFixture fx(74, bending, FillStiffness::Homogenised);
+      const ShellModel model = with_curve(fx, shapes.curve(by_state));
+      const ConcentrationMap K(model.mechanics().stiffness_curve);
+      const RowMatX3d x = fx.perturbed(75);
+      const Eigen::VectorXd alpha = varied_alpha(fx);
+      std::mt19937 rng(76);
+      std::uniform_real_distribution<double> u(0, 1);
+      std::normal_distribution<double> n;
+      Eigen::VectorXd share(alpha.size()), c(alpha.size()), w(alpha.size());
+      for (int t = 0; t < share.size(); ++t) {
+        const int kind = t % 4;  // shape 0 alone, shape 1 alone, both, shape 1 in its ramp
+        share[t] = kind == 0 ? 0.0 : kind == 1 ? 1.0 : kind == 2 ? u(rng) : 0.3 * kConcentrationRamp / std::max(1e-3, 1 - alpha[t]);
+        share[t] = std::min(share[t], 1.0);
+        c[t] = n(rng);
+        w[t] = t % 7 == 0 ? 0.0 : u(rng);
+      }
+      const Eigen::MatrixXd h = split_cover(alpha, share);
+      const Eigen::VectorXd* no_weight = nullptr;
+      for (const Eigen::VectorXd* weight : {no_weight, static_cast<const Eigen::VectorXd*>(&w)}) {
+        SCOPED_TRACE(weight ? "blend weights" : "no weights");
+        RowMatX3d dx;
+        Eigen::VectorXd da;
+        Eigen::MatrixXd dh;
+        peak_energy_density_vjp(model, x, alpha, K, weight, c, &dx, &da, &h, &dh);
+        ASSERT_EQ(dh.rows(), h.rows());
+        ASSERT_EQ(dh.cols(), 2);
+        EXPECT_GT(dh.norm(), 0.0);
+        const Eigen::Map<const Eigen::VectorXd> h_flat(h.data(), h.size());
+        const auto of_h = [&](const Eigen::VectorXd& v) {
+          const Eigen::MatrixXd hv = Eigen::Map<const Eigen::MatrixXd>(v.data(), h.rows(), h.cols());
+          return c.dot(peak_energy_density(model, x, alpha, K, weight, &hv));
+        };
+        const Eigen::VectorXd dh_flat = Eigen::Map<const Eigen::VectorXd>(dh.data(), dh.size());
+        const auto ch = test::check_gradient(of_h, h_flat, dh_flat, 1e-3);
+        EXPECT_LE(ch.best, 1e-6) << ch.table();
+        const auto of_alpha = [&](const Eigen::VectorXd& a) {
+          return c.dot(peak_energy_density(model, x, a, K, weight, &h));
+        };
+        const auto ca = test::check_gradient(of_alpha, alpha, da, 0.01);
+        EXPECT_LE(ca.best, 1e-6) << ca.table();
+        const auto of_positions = [&](const Eigen::VectorXd& xf) {
+          RowMatX3d y = x;
+          model.scatter_free(xf, y);
+          return c.dot(peak_energy_density(model, y, alpha, K, weight, &h));
+        };
+        const auto cx = test::check_gradient(of_positions, model.gather_free(x), model.gather_free(dx), 0.01);
+        EXPECT_LE(cx.best, 1e-6) << cx.table();
+      }
+    }
+}
+
+// The peak objective carries ∂S/∂h (ObjectiveTerms::d_covered) when it is given covered fractions
+// and the factors are by shape, and nothing otherwise.
+TEST(PeakByShape, ThePeakObjectiveCarriesItsCoveredFractionsGradient) {
+  const TwoShapes shapes;
+  test::CapFixture fx(77, BendingModel::ShapeOperator, FillStiffness::Homogenised);
+  const ShellModel model = with_curve(fx, shapes.curve(true));
+  const ConcentrationMap K(model.mechanics().stiffness_curve);
+  const RowMatX3d x = fx.perturbed(78);
+  const Eigen::VectorXd alpha = varied_alpha(fx);
+  Eigen::VectorXd share(alpha.size());
+  for (int t = 0; t < share.size(); ++t) share[t] = (t % 5) / 4.0;
+  const Eigen::MatrixXd h = split_cover(alpha, share);
+  const Eigen::VectorXd W = energy_density(model, x, alpha);
+  const double beta = 0.5 * W.maxCoeff(), w_ref = W.maxCoeff();
+  const PeakMeasure peak{&K, nullptr, &h};
+  const ObjectiveTerms t = energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &peak);
+  ASSERT_EQ(t.d_covered.rows(), alpha.size());
+  const Eigen::Map<const Eigen::VectorXd> h_flat(h.data(), h.size());
+  const auto of_h = [&](const Eigen::VectorXd& v) {
+    const Eigen::MatrixXd hv = Eigen::Map<const Eigen::MatrixXd>(v.data(), h.rows(), h.cols());
+    const PeakMeasure p{&K, nullptr, &hv};
+    return energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &p).value;
+  };
+  const Eigen::VectorXd g = Eigen::Map<const Eigen::VectorXd>(t.d_covered.data(), t.d_covered.size());
+  ASSERT_GT(g.norm(), 0.0);
+  const auto ch = test::check_gradient(of_h, h_flat, g, 1e-3);
+  EXPECT_LE(ch.best, 1e-6) << ch.table();
+  const PeakMeasure without{&K, nullptr, nullptr};
+  EXPECT_EQ(energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &without).d_covered.size(), 0);
+  // summarize_equilibrium's W_peak reads the same rule.
+  const EquilibriumSummary s = summarize_equilibrium(model, x, alpha, nullptr, &h);
+  EXPECT_EQ((s.peak_energy_density - peak_energy_density(model, x, alpha, K, nullptr, &h)).norm(), 0.0);
+}
+
+TEST(PeakByShape, MalformedFactorsByShapeAreRejected) {
+  const TwoShapes shapes;
+  FillStiffnessCurve c = shapes.curve(true);
+  c.shape_concentration[1].membrane.pop_back();
+  EXPECT_THROW(ConcentrationMap{c}, InputError);
+  c = shapes.curve(true);
+  c.shape_concentration[0].bending[2] = 0.5;
+  EXPECT_THROW(ConcentrationMap{c}, InputError);
+  c = shapes.curve(true);
+  c.shape_concentration[0].membrane_by_biaxiality.clear();
+  c.shape_concentration[0].bending_by_biaxiality.clear();
+  EXPECT_THROW(ConcentrationMap{c}, InputError);
+  // One shape with its own factors is not "by shape": the worst is that shape's.
+  c = shapes.curve(true);
+  c.shape_concentration[1] = {};
+  EXPECT_FALSE(ConcentrationMap(c).by_shape());
+  EXPECT_FALSE(concentration_by_shape(c));
+}
+
+}  // namespace
+}  // namespace cutwork::solvers
