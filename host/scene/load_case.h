@@ -35,6 +35,10 @@ enum class FillStiffness {
 /// Nodes of FillStiffnessCurve's concentration by biaxiality: ρ_j = −1 + 2j/(kBiaxialityNodes − 1).
 inline constexpr int kBiaxialityNodes = 9;
 inline constexpr double biaxiality_node(int j) { return -1.0 + 2.0 * j / (kBiaxialityNodes - 1); }
+/// Nodes of a shape's concentration by the corner rule's radius (ShapeConcentration::*_by_corner),
+/// in the stencil's bounding radii: ε_c = c/(kCornerNodes − 1), 0 to 1.
+inline constexpr int kCornerNodes = 9;
+inline constexpr double corner_node(int c) { return double(c) / (kCornerNodes - 1); }
 
 struct FillStiffnessCurve {
   std::vector<double> alpha;     ///< sample fill ratios, strictly increasing, in (0, 1], last = 1
@@ -58,6 +62,12 @@ struct FillStiffnessCurve {
   struct ShapeConcentration {
     std::vector<double> membrane, bending;  ///< K at each sample, as membrane_concentration
     std::vector<std::vector<double>> membrane_by_biaxiality, bending_by_biaxiality;  ///< as above
+    /// K by biaxiality with the rim within ε_c = corner_node(c) bounding radii of the shape's
+    /// singular corners left out (cutwork verify's corner rule at the fabrication minimum feature,
+    /// MechanicsSettings::corner_radius, in the stencil's own size; optional, empty: ε = 0 only):
+    /// per sample kCornerNodes × kBiaxialityNodes values, corner node major; node 0 is the table
+    /// above.
+    std::vector<std::vector<double>> membrane_by_corner, bending_by_corner;
     bool empty() const { return membrane.empty(); }
   };
   std::vector<ShapeConcentration> shape_concentration;
@@ -116,6 +126,11 @@ struct MechanicsSettings {
   Vec3 lattice_axis = Vec3::UnitX();
   /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
   FillStiffnessCurve stiffness_curve;
+  /// The radius (m) about a stencil's singular corners within which W_peak does not read the rim
+  /// (the factors by corner of ShapeConcentration, at corner_radius / the stencil's scale): the
+  /// fabrication minimum feature, copied from the scene's fabrication.min_feature by parse_scene,
+  /// as cutwork verify leaves those rim points out of the conforming peak. 0: every rim point.
+  double corner_radius = 0;
 };
 
 enum class SupportKind {

@@ -435,6 +435,8 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
                      ": /structure/measure: 'peak' needs mechanics.stiffness 'homogenised' (the concentration factors "
                      "come from its cell problems)");
   scene.fabrication = parse_fabrication_section(root);
+  // W_peak leaves out the rim about singular corners as verify does (load_case.h).
+  scene.mechanics.corner_radius = scene.fabrication.min_feature;
   root.finish();
   return scene;
 }

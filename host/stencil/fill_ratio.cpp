@@ -286,30 +286,43 @@ void FillRatioEvaluator::pullback(const Eigen::VectorXd& d_objective_d_alpha,
   m_report.kernels_ms = m_report.total_ms = ms_since(start);
 }
 
-Eigen::MatrixXd FillRatioEvaluator::covered_by_shape() const {
+Eigen::MatrixXd FillRatioEvaluator::covered_by_shape(std::span<const double> weight) const {
+  if (!weight.empty() && weight.size() != size_t(m_num_stencils))
+    throw InternalError("fill ratios: " + std::to_string(weight.size()) + " weights for " +
+                        std::to_string(m_num_stencils) + " stencils");
   const std::vector<kernels::ClipResult>& results = overlaps();
   const auto& pairs = m_broad.pairs();
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m_alpha.size(), m_shapes->size());
-  for (size_t i = 0; i < pairs.size(); ++i)
-    h(pairs[i].face, m_clip_stencils[size_t(pairs[i].stencil)].shape) += results[i].fraction;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const int s = pairs[i].stencil;
+    h(pairs[i].face, m_clip_stencils[size_t(s)].shape) += weight.empty() ? results[i].fraction
+                                                                         : weight[size_t(s)] * results[i].fraction;
+  }
   return h;
 }
 
 void FillRatioEvaluator::pullback_by_shape(const Eigen::MatrixXd& d_objective_d_covered,
-                                           Eigen::VectorXd& d_objective_d_params) const {
+                                           Eigen::VectorXd& d_objective_d_params, std::span<const double> weight,
+                                           std::span<const double> d_weight_d_scale) const {
   if (!m_options.derivatives)
     throw InternalError("fill ratios: derivatives were switched off for this evaluator");
   if (d_objective_d_covered.rows() != m_alpha.size() || d_objective_d_covered.cols() != m_shapes->size())
     throw InternalError("fill ratios: the gradient by shape is " + std::to_string(d_objective_d_covered.rows()) + "×" +
                         std::to_string(d_objective_d_covered.cols()) + " for " + std::to_string(m_alpha.size()) +
                         " faces and " + std::to_string(m_shapes->size()) + " shapes");
+  if ((!weight.empty() && weight.size() != size_t(m_num_stencils)) ||
+      (!d_weight_d_scale.empty() && d_weight_d_scale.size() != weight.size()))
+    throw InternalError("fill ratios: the weights do not match the stencils");
   const std::vector<kernels::ClipResult>& results = overlaps();
   const auto& pairs = m_broad.pairs();
   d_objective_d_params.setZero(5 * m_num_stencils);
   for (size_t i = 0; i < pairs.size(); ++i) {
-    const double g = d_objective_d_covered(pairs[i].face, m_clip_stencils[size_t(pairs[i].stencil)].shape);
+    const int s = pairs[i].stencil;
+    const double g = d_objective_d_covered(pairs[i].face, m_clip_stencils[size_t(s)].shape);
     if (g == 0) continue;
-    for (int k = 0; k < 5; ++k) d_objective_d_params[5 * pairs[i].stencil + k] += g * results[i].d_fraction[k];
+    const double w = weight.empty() ? 1.0 : weight[size_t(s)];
+    for (int k = 0; k < 5; ++k) d_objective_d_params[5 * s + k] += g * w * results[i].d_fraction[k];
+    if (!d_weight_d_scale.empty()) d_objective_d_params[5 * s + 3] += g * results[i].fraction * d_weight_d_scale[size_t(s)];
   }
 }
 

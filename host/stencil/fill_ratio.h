@@ -151,14 +151,17 @@ class FillRatioEvaluator {
                 Eigen::VectorXd& d_objective_d_params) const;
   /// The part of each face each shape covers (#F × the library's shapes): h(t, k) = Σ fraction(s, t)
   /// over the pairs (s, t) whose stencil s has shape k — unclamped, so Σ_k h(t, k) = 1 − α_t wherever
-  /// α_t is above min_fill and below 1. From overlaps() (Vulkan without download_overlaps: one clip
-  /// re-run, see there).
-  Eigen::MatrixXd covered_by_shape() const;
-  /// g_p = (dh/dp)ᵀ g_h for h = covered_by_shape(): d_objective_d_params[5 s + k] = Σ over the
-  /// pairs (s, t) of g_h(t, shape of s) ∂fraction(s, t)/∂p_k (#S×5, stencil-major). Serial over the
-  /// pairs in list order (deterministic). Throws InternalError when derivatives are off or the size
-  /// is wrong.
-  void pullback_by_shape(const Eigen::MatrixXd& d_objective_d_covered, Eigen::VectorXd& d_objective_d_params) const;
+  /// α_t is above min_fill and below 1. With `weight` (#S), each piece weighted by its stencil's:
+  /// Σ w_s fraction(s, t). From overlaps() (Vulkan without download_overlaps: one clip re-run, see
+  /// there).
+  Eigen::MatrixXd covered_by_shape(std::span<const double> weight = {}) const;
+  /// g_p = (dh/dp)ᵀ g_h for h = covered_by_shape(weight): d_objective_d_params[5 s + k] = Σ over the
+  /// pairs (s, t) of g_h(t, shape of s) (w_s ∂fraction(s, t)/∂p_k + fraction(s, t) ∂w_s/∂p_k), a
+  /// weight depending on the stencil's scale alone (`d_weight_d_scale`, #S, with `weight`)
+  /// (#S×5, stencil-major). Serial over the pairs in list order (deterministic). Throws
+  /// InternalError when derivatives are off or a size is wrong.
+  void pullback_by_shape(const Eigen::MatrixXd& d_objective_d_covered, Eigen::VectorXd& d_objective_d_params,
+                         std::span<const double> weight = {}, std::span<const double> d_weight_d_scale = {}) const;
   /// dα/dp as a sparse #F × 5#S matrix (for tests and small problems).
   Eigen::SparseMatrix<double, Eigen::RowMajor> jacobian() const;
 

@@ -3,6 +3,7 @@
 
 #include "solvers/objective/ligament_peak.h"
 #include "solvers/objective/peak_energy_density.h"
+#include "solvers/objective/shape_cover.h"
 #include "solvers/conforming/richardson.h"
 #include "solvers/conforming/zoom_submodel.h"
 
@@ -33,7 +34,7 @@ namespace {
 void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const NewtonSettings& settings,
                RunQuantities& q, Eigen::VectorXd& W, RowMatX3d* u, const Eigen::VectorXd* concentration_weight = nullptr,
                Eigen::VectorXd* W_peak = nullptr, const RowMatX3d* start = nullptr,
-               const Eigen::MatrixXd* covered = nullptr) {
+               const ShapeCover* cover = nullptr) {
   Stopwatch sw;
   EquilibriumSolver solver(model, settings);
   if (start) solver.start_from(*start);
@@ -42,7 +43,7 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
     throw SolveError(fmt::format("the {}-triangle shell's equilibrium is unstable (it buckles); the comparison "
                                  "needs a stable equilibrium",
                                  model.num_faces()));
-  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha, concentration_weight, covered);
+  const EquilibriumSummary s = summarize_equilibrium(model, solver.positions(), alpha, concentration_weight, cover);
   static_cast<EquilibriumScalars&>(q) = s;
   q.vertices = model.num_vertices();
   q.faces = model.num_faces();
@@ -309,16 +310,16 @@ void extrapolate_compliance(ConformingVerification& v) {
 
 Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
                                     const SurfaceMesh& sim, std::span<const StencilParams> stencils,
-                                    FillRatioOptions fill, Eigen::MatrixXd* covered) {
+                                    FillRatioOptions fill, ShapeCover* cover, double corner_radius) {
   if (stencils.empty()) {
-    if (covered) covered->setZero(sim.num_faces(), shapes.size());
+    if (cover) *cover = ShapeCover{};
     return Eigen::VectorXd::Ones(sim.num_faces());
   }
   fill.derivatives = false;
   const FaceBvh sim_bvh(sim);
   FillRatioEvaluator eval(surface, sim_bvh, shapes, &field, fill);
   eval.evaluate(stencils);
-  if (covered) *covered = eval.covered_by_shape();
+  if (cover) *cover = shape_cover(eval, stencils, corner_radius, CellFilter{});
   return eval.alpha();
 }
 
@@ -354,15 +355,18 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
 
   // 1. The coarse fill-ratio run (design_fill_ratios, with the filter kept for its blend).
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, stencils);
-  // The shapes' covered fractions where W_peak reads each shape's factors (peak_energy_density.h).
-  Eigen::MatrixXd covered;
+  // The cover by shape where W_peak reads its factors by shape and by corner (peak_energy_density.h).
+  ShapeCover cover;
   const bool by_shape = !stencils.empty() && concentration_by_shape(mechanics.stiffness_curve);
   const Eigen::VectorXd own = fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim,
-                                                  stencils, fill, by_shape ? &covered : nullptr);
+                                                  stencils, fill, by_shape ? &cover : nullptr,
+                                                  mechanics.corner_radius);
   const CellFilter filter = scene_cell_filter(scene, ctx, meshes.sim);
   v.alpha = stencils.empty() ? own : filter.apply(own);
-  if (by_shape && !filter.identity())
-    for (Eigen::Index k = 0; k < covered.cols(); ++k) covered.col(k) = filter.apply(covered.col(k));
+  if (by_shape && !filter.identity()) {
+    for (Eigen::Index k = 0; k < cover.covered.cols(); ++k) cover.covered.col(k) = filter.apply(cover.covered.col(k));
+    for (Eigen::Index k = 0; k < cover.corner.cols(); ++k) cover.corner.col(k) = filter.apply(cover.corner.col(k));
+  }
   // The conforming runs are at α = 1, where every fill rule is the solid.
   Eigen::VectorXd coarse_W_peak;
   RowMatX3d coarse_u;  // the first conforming level starts from it
@@ -370,7 +374,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     const ShellModel coarse(meshes.sim, scene.material, load_case, mechanics);
     // W_peak's factors blend as the cell filter does (peak_energy_density.h).
     solve_run(coarse, v.alpha, settings, v.coarse, v.coarse_W, &coarse_u, filter.identity() ? nullptr : &filter.blend(),
-              &coarse_W_peak, nullptr, by_shape ? &covered : nullptr);
+              &coarse_W_peak, nullptr, by_shape ? &cover : nullptr);
     v.coarse.edge_length = meshes.sim.mean_edge_length();
     // The material the stencils leave is measured with the faces' own α, as a design measures it
     // (the filter is not exactly area-conserving near borders, cell_filter.h).
@@ -654,7 +658,8 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     v.notes.push_back(fmt::format(
         "rim points within the minimum feature ({:.3g} m) of corners sharper than it, left out of the conforming peak, "
         "read up to {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m on the finest level, against its peak {:.4g}: where those "
-        "corners are the stencils' own rounds the shell's peak is there, unresolved (W_peak's factors count them)",
+        "corners are the stencils' own rounds the shell's peak is there, unresolved (W_peak's factors leave them out "
+        "too, by the same rule)",
         scene.fabrication.min_feature, f.corner_peak, f.corner_peak_position.x(), f.corner_peak_position.y(),
         f.corner_peak_position.z(), f.peak));
   const bool zoomed = v.zoom.steps.size() >= 2;

@@ -58,6 +58,7 @@
 #include "host/stencil/fill_ratio.h"
 #include "host/stencil/frame.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
+#include "solvers/objective/objective_terms.h"
 #include "solvers/objective/structural_quantities.h"
 #include "host/pattern/pattern_context.h"
 #include "solvers/conforming/rim_recovery.h"
@@ -254,11 +255,13 @@ struct ConformingVerification {
 
 /// Fill ratios (#F of `sim`) of `stencils` placed on the surface `surface` (with `shapes` and the
 /// tangent `field`) on the simulation mesh `sim` (CPU kernels unless `fill` says otherwise;
-/// derivatives off). Ones without stencils. With `covered`, also each shape's covered fractions
-/// (FillRatioEvaluator::covered_by_shape: #F × shapes; zeros without stencils).
+/// derivatives off). Ones without stencils. With `cover`, also the stencils' cover by shape
+/// (solvers/objective/shape_cover.h, unfiltered, its corner moments at `corner_radius`; empty
+/// without stencils).
 Eigen::VectorXd fill_ratios_on_mesh(const FaceBvh& surface, const StencilLibrary& shapes, const TangentField& field,
                                     const SurfaceMesh& sim, std::span<const StencilParams> stencils,
-                                    FillRatioOptions fill = {}, Eigen::MatrixXd* covered = nullptr);
+                                    FillRatioOptions fill = {}, ShapeCover* cover = nullptr,
+                                    double corner_radius = 0);
 
 /// Fill ratios (#F of `sim`) of `stencils` on a simulation mesh of the scene (its own or a refined
 /// one), as the optimiser computes them: the kernels' α, then the scene's cell filter

@@ -1,5 +1,6 @@
 #include "solvers/homogenise/cell_homogenisation.h"
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <span>
@@ -341,6 +342,7 @@ std::vector<std::pair<ConcentrationState, Eigen::Vector3d>> concentration_states
 void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, const std::vector<int>& period,
                           int centre, const std::vector<LocalStiffness>& elements, const Eigen::MatrixXd& fluctuation,
                           CellStiffness& out) {
+  const double scale = out.scale;  // the stencil's bounding radius in lattice spacings
   using Mat6 = Eigen::Matrix<double, kCases, kCases>;
   const int nf = cell.num_faces();
   const auto dof = [](int cls) { return 3 * Eigen::Index(cls - 1); };
@@ -378,6 +380,28 @@ void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, cons
   std::vector<size_t> points;
   for (size_t i = 0; i < rim[0].size(); ++i)
     if (in_centre[size_t(rim[0][i].vertex)] && !rim[0][i].singular) points.push_back(i);
+  // Under the corner rule at each node ε_c (in bounding radii, `scale` lattice spacings each): the
+  // points farther than ε_c from the singular corners found with a window of ε_c/4 (as verify).
+  std::vector<std::vector<size_t>> points_by_corner(kCornerNodes);
+  points_by_corner[0] = points;
+  // Only the holes' corners: the tiled patch's outer boundary (pinned, no rim) has corners of its own.
+  const auto on_rim = [&](const Vec3& q) {
+    for (const RimPoint& p : rim[0])
+      if ((X.row(p.vertex).transpose() - q).norm() <= 1e-9 * scale) return true;
+    return false;
+  };
+  for (int c = 1; c < kCornerNodes; ++c) {
+    const double radius = corner_node(c) * scale;
+    std::vector<Vec3> corners;
+    for (const Vec3& q : singular_corners(X, tiled.faces(), RimRecoveryOptions{}.corner_angle, 0.25 * radius))
+      if (on_rim(q)) corners.push_back(q);
+    for (const size_t i : points) {
+      bool near = false;
+      const Vec3 at = X.row(rim[0][i].vertex).transpose();
+      for (const Vec3& q : corners) near = near || (at - q).norm() < radius;
+      if (!near) points_by_corner[size_t(c)].push_back(i);
+    }
+  }
   // Faces within a rim point's patch are left to the rim's reading: a face's constant strain (and
   // its shape-operator curvature) next to a free edge scatters with the faces' shapes (the largest
   // face W next to a dilute circle's rim read 1.2× Goodier's bending peak, and ±7% on Kirsch's).
@@ -397,27 +421,35 @@ void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, cons
   out.membrane_states.clear();
   out.bending_states.clear();
   out.membrane_concentration = out.bending_concentration = 0;
-  // K of one macroscopic stress (part 0) or moment (part 1) state, Voigt, any amplitude.
-  const auto factor = [&](int part, const Eigen::Vector3d& load) {
+  // K of one macroscopic stress (part 0) or moment (part 1) state, Voigt, any amplitude, over the
+  // faces off the rim and the rim points of each corner node (`by_corner`: kCornerNodes values;
+  // null: node 0 only, returned).
+  const auto factor = [&](int part, const Eigen::Vector3d& load, double* by_corner = nullptr) {
     const int o = 3 * part;
     const Eigen::Matrix3d stiffness = part == 0 ? out.membrane : out.bending;
     const Eigen::Vector3d e = stiffness.ldlt().solve(load);
     const double mean = 0.5 * e.dot(total.block<3, 3>(o, o) * e) / material_area;
-    double peak = 0;
+    double face_peak = 0;
     for (int f = 0; f < nf; ++f)
-      if (off_rim[size_t(f)]) peak = std::max(peak, 0.5 * e.dot(Q[size_t(f)].block<3, 3>(o, o) * e) / A[f]);
-    for (const size_t i : points) {
-      double strain = 0, curvature = 0, twist = 0;
-      for (int k = 0; k < 3; ++k) {
-        const RimPoint& p = rim[size_t(o + k)][i];
-        strain += e[k] * p.strain, curvature += e[k] * p.curvature, twist += e[k] * p.twist;
+      if (off_rim[size_t(f)]) face_peak = std::max(face_peak, 0.5 * e.dot(Q[size_t(f)].block<3, 3>(o, o) * e) / A[f]);
+    const auto rim_peak = [&](const std::vector<size_t>& pts) {
+      double peak = face_peak;
+      for (const size_t i : pts) {
+        double strain = 0, curvature = 0, twist = 0;
+        for (int k = 0; k < 3; ++k) {
+          const RimPoint& p = rim[size_t(o + k)][i];
+          strain += e[k] * p.strain, curvature += e[k] * p.curvature, twist += e[k] * p.twist;
+        }
+        // Only the part's own quantities: a flat cell's membrane cases do not bend its rim, nor its
+        // bending cases stretch it (both to order kProbe).
+        peak = std::max(peak, part == 0 ? free_edge_energy_density(material, strain / kProbe)
+                                        : free_edge_energy_density(material, 0, curvature / kProbe, twist / kProbe));
       }
-      // Only the part's own quantities: a flat cell's membrane cases do not bend its rim, nor its
-      // bending cases stretch it (both to order kProbe).
-      peak = std::max(peak, part == 0 ? free_edge_energy_density(material, strain / kProbe)
-                                      : free_edge_energy_density(material, 0, curvature / kProbe, twist / kProbe));
-    }
-    return peak / mean;
+      return peak / mean;
+    };
+    if (by_corner)
+      for (int c = 0; c < kCornerNodes; ++c) by_corner[c] = rim_peak(points_by_corner[size_t(c)]);
+    return rim_peak(points);
   };
   for (auto [state, load] : concentration_states()) {
     for (int part = 0; part < 2; ++part) {  // membrane, bending
@@ -430,6 +462,8 @@ void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, cons
   // By biaxiality: principal values (1, ρ_j) at every angle θ of the 7.5° grid, the largest K.
   out.membrane_concentration_by_biaxiality.assign(kBiaxialityNodes, 0.0);
   out.bending_concentration_by_biaxiality.assign(kBiaxialityNodes, 0.0);
+  out.membrane_concentration_by_corner.assign(size_t(kCornerNodes * kBiaxialityNodes), 0.0);
+  out.bending_concentration_by_corner.assign(size_t(kCornerNodes * kBiaxialityNodes), 0.0);
   for (int j = 0; j < kBiaxialityNodes; ++j) {
     const double rho = biaxiality_node(j);
     for (int a = 0; a < kBiaxialityAngles; ++a) {
@@ -437,7 +471,11 @@ void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, cons
       const Eigen::Vector3d load(c * c + rho * s * s, s * s + rho * c * c, (1 - rho) * c * s);
       for (int part = 0; part < 2; ++part) {
         double& K = (part == 0 ? out.membrane_concentration_by_biaxiality : out.bending_concentration_by_biaxiality)[size_t(j)];
-        K = std::max(K, factor(part, load));
+        std::array<double, kCornerNodes> by_corner{};
+        K = std::max(K, factor(part, load, by_corner.data()));
+        std::vector<double>& table = part == 0 ? out.membrane_concentration_by_corner : out.bending_concentration_by_corner;
+        for (int n = 0; n < kCornerNodes; ++n)
+          table[size_t(n * kBiaxialityNodes + j)] = std::max(table[size_t(n * kBiaxialityNodes + j)], by_corner[size_t(n)]);
       }
     }
   }

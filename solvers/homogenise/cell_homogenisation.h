@@ -110,8 +110,9 @@ struct CellOptions {
 /// membrane uniaxial 4.6 / 8.5 / 11.8): the rim's resolution, R/16, acts as the tip's radius. A
 /// smooth shape's rounds are not singular and converge (flower at α = 0.75: 12.4 / 15.5 / 16.2 at
 /// 8 / 16 / 24). `cutwork verify` leaves out the rim within the fabrication minimum feature of a
-/// corner (physical: 30° within a quarter of it), which the cell cannot do without the design's
-/// stencil size: that is still open.
+/// corner (physical: 30° within a quarter of it). The cell does not know the design's stencil
+/// size, so it reads K at every corner node ε_c (the rule's radius in the stencil's bounding radii)
+/// and W_peak takes the node of each face's stencils, ε = g/s (peak_energy_density.h).
 /// Angles of the biaxial states of CellStiffness's concentration by biaxiality, over 180°.
 inline constexpr int kBiaxialityAngles = 24;
 
@@ -149,6 +150,12 @@ struct CellStiffness {
   /// (kBiaxialityAngles); kBiaxialityNodes values each. The node ρ = 0 holds the uniaxial states'
   /// largest, ρ = 1 the equibiaxial, ρ = −1 pure shear's (on a finer grid of angles than the states').
   std::vector<double> membrane_concentration_by_biaxiality, bending_concentration_by_biaxiality;
+  /// K by biaxiality under the corner rule (FillStiffnessCurve::ShapeConcentration): at each corner
+  /// node ε_c = corner_node(c) (in bounding radii), the rim points within ε_c of a singular corner
+  /// left out, the corners found as cutwork verify finds them at the fabrication minimum feature g
+  /// (singular_corners with a window of g/4, here ε_c/4 bounding radii); kCornerNodes ×
+  /// kBiaxialityNodes values, corner node major, the first kBiaxialityNodes the table above.
+  std::vector<double> membrane_concentration_by_corner, bending_concentration_by_corner;
 };
 
 /// The largest hole fraction 1 − α at which `shape` still fits the lattice: its bounding circle

@@ -23,6 +23,8 @@ struct ShapeCurve {
   std::vector<double> membrane_concentration, bending_concentration;  ///< K (cell_homogenisation.h)
   /// K by biaxiality per sample (kBiaxialityNodes each)
   std::vector<std::vector<double>> membrane_concentration_by_biaxiality, bending_concentration_by_biaxiality;
+  /// K by corner node and biaxiality per sample (kCornerNodes × kBiaxialityNodes each)
+  std::vector<std::vector<double>> membrane_concentration_by_corner, bending_concentration_by_corner;
   std::vector<double> membrane_anisotropy, bending_anisotropy;  ///< q (the square lattice's)
 };
 
@@ -64,6 +66,8 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
       c.bending_concentration.push_back(c.bending_concentration.empty() ? 1 : c.bending_concentration.back());
       for (auto* K : {&c.membrane_concentration_by_biaxiality, &c.bending_concentration_by_biaxiality})
         K->push_back(K->empty() ? std::vector<double>(kBiaxialityNodes, 1.0) : K->back());
+      for (auto* K : {&c.membrane_concentration_by_corner, &c.bending_concentration_by_corner})
+        K->push_back(K->empty() ? std::vector<double>(kCornerNodes * kBiaxialityNodes, 1.0) : K->back());
       continue;
     }
     // Below the lowest fill ratio the lowest cell (K and q held; the ratios lowered after the loop).
@@ -75,6 +79,8 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
     c.bending_concentration.push_back(cell.bending_concentration);
     c.membrane_concentration_by_biaxiality.push_back(cell.membrane_concentration_by_biaxiality);
     c.bending_concentration_by_biaxiality.push_back(cell.bending_concentration_by_biaxiality);
+    c.membrane_concentration_by_corner.push_back(cell.membrane_concentration_by_corner);
+    c.bending_concentration_by_corner.push_back(cell.bending_concentration_by_corner);
     c.membrane_anisotropy.push_back(cell.membrane_anisotropy);
     c.bending_anisotropy.push_back(cell.bending_anisotropy);
   }
@@ -200,7 +206,9 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     lock.unlock();
     out.shape_concentration[size_t(shape.type)] = {c.membrane_concentration, c.bending_concentration,
                                                    c.membrane_concentration_by_biaxiality,
-                                                   c.bending_concentration_by_biaxiality};
+                                                   c.bending_concentration_by_biaxiality,
+                                                   c.membrane_concentration_by_corner,
+                                                   c.bending_concentration_by_corner};
     for (size_t k = 0; k < grid.size(); ++k) {
       out.membrane[k] += w * c.membrane[k];
       out.bending[k] += w * c.bending[k];

@@ -59,9 +59,12 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
   m_worst.bending_states = checked_by_biaxiality(c.alpha, c.bending_concentration_by_biaxiality, "bending");
   if (m_worst.membrane_states.empty() != m_worst.bending_states.empty())
     throw InputError("concentration by biaxiality: membrane and bending tables must come together");
+  int calibrated = 0;
+  bool corners = false;  // a shape whose factors change under the corner rule
   for (const FillStiffnessCurve::ShapeConcentration& shape : c.shape_concentration) {
-    Factors& f = m_shapes.emplace_back();
+    ShapeFactors& by_corner = m_shapes.emplace_back();
     if (shape.empty()) continue;
+    Factors& f = by_corner.emplace_back();
     f.membrane = checked_concentration(c.alpha, shape.membrane, "a shape's membrane");
     f.bending = checked_concentration(c.alpha, shape.bending, "a shape's bending");
     f.membrane_states = checked_by_biaxiality(c.alpha, shape.membrane_by_biaxiality, "a shape's membrane");
@@ -69,8 +72,49 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
     if (f.membrane_states.size() != m_worst.membrane_states.size() ||
         f.bending_states.size() != m_worst.bending_states.size())
       throw InputError("concentration by shape: a shape's tables by biaxiality do not match the curve's");
-    ++m_calibrated_shapes;
+    ++calibrated;
+    if (shape.membrane_by_corner.empty() && shape.bending_by_corner.empty()) continue;
+    if (f.membrane_states.empty())
+      throw InputError("concentration by corner: a shape's tables by corner need its tables by biaxiality");
+    // Nodes 1 … kCornerNodes − 1 from the tables by corner (node 0 is the tables above); the worst
+    // state's K at a node is its largest over the biaxiality nodes.
+    const auto node_table = [&](const std::vector<std::vector<double>>& table, int node, const char* what) {
+      if (table.size() != c.alpha.size())
+        throw InputError(fmt::format("{} concentration by corner: {} rows for {} fill ratios", what, table.size(),
+                                     c.alpha.size()));
+      std::vector<std::vector<double>> rows;
+      for (const std::vector<double>& row : table) {
+        if (row.size() != size_t(kCornerNodes * kBiaxialityNodes))
+          throw InputError(fmt::format("{} concentration by corner: a row of {} factors, not {}", what, row.size(),
+                                       kCornerNodes * kBiaxialityNodes));
+        rows.emplace_back(row.begin() + node * kBiaxialityNodes, row.begin() + (node + 1) * kBiaxialityNodes);
+      }
+      return rows;
+    };
+    const auto worst_of = [](const std::vector<std::vector<double>>& rows) {
+      std::vector<double> worst;
+      for (const std::vector<double>& row : rows) worst.push_back(*std::max_element(row.begin(), row.end()));
+      return worst;
+    };
+    for (int node = 1; node < kCornerNodes; ++node) {
+      const auto membrane = node_table(shape.membrane_by_corner, node, "a shape's membrane");
+      const auto bending = node_table(shape.bending_by_corner, node, "a shape's bending");
+      Factors g;
+      g.membrane = checked_concentration(c.alpha, worst_of(membrane), "a shape's membrane");
+      g.bending = checked_concentration(c.alpha, worst_of(bending), "a shape's bending");
+      g.membrane_states = checked_by_biaxiality(c.alpha, membrane, "a shape's membrane");
+      g.bending_states = checked_by_biaxiality(c.alpha, bending, "a shape's bending");
+      by_corner.push_back(std::move(g));
+    }
+    const auto varies = [](const std::vector<std::vector<double>>& table) {
+      for (const std::vector<double>& row : table)
+        for (size_t i = kBiaxialityNodes; i < row.size(); ++i)
+          if (row[i] != row[i % kBiaxialityNodes]) return true;
+      return false;
+    };
+    corners = corners || varies(shape.membrane_by_corner) || varies(shape.bending_by_corner);
   }
+  m_by_shape = calibrated >= 2 || (calibrated == 1 && corners);
   if (c.split()) {
     m_membrane_bulk = MonotoneCurve(c.alpha, c.membrane_bulk);
     m_membrane_shear = MonotoneCurve(c.alpha, c.membrane_shear);
@@ -80,22 +124,41 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
 }
 
 bool concentration_by_shape(const FillStiffnessCurve& curve) {
-  int calibrated = 0;
-  for (const FillStiffnessCurve::ShapeConcentration& shape : curve.shape_concentration) calibrated += !shape.empty();
-  return calibrated >= 2 && !curve.membrane_concentration.empty();
+  return !curve.shape_concentration.empty() && ConcentrationMap(curve).by_shape();
 }
 
-double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, const double* rho, double* d_alpha,
-                                      double* d_rho) const {
-  const Factors& f = shape >= 0 && shape < num_shapes() && !m_shapes[size_t(shape)].membrane.empty()
-                         ? m_shapes[size_t(shape)]
-                         : m_worst;
+double ConcentrationMap::single(const Factors& f, bool bending, double alpha, const double* rho, double* d_alpha,
+                                double* d_rho) {
   const MonotoneCurve& worst = bending ? f.bending : f.membrane;
   if (!rho) {
     if (d_rho) *d_rho = 0;
     return apply(worst, alpha, d_alpha, false);
   }
   return by_state(bending ? f.bending_states : f.membrane_states, worst, alpha, *rho, d_alpha, d_rho, false);
+}
+
+double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, const double* rho, double epsilon,
+                                      double* d_alpha, double* d_rho, double* d_epsilon) const {
+  if (d_epsilon) *d_epsilon = 0;
+  const bool own = shape >= 0 && shape < num_shapes() && !m_shapes[size_t(shape)].empty();
+  if (!own) return single(m_worst, bending, alpha, rho, d_alpha, d_rho);
+  const ShapeFactors& nodes = m_shapes[size_t(shape)];
+  if (nodes.size() == 1) return single(nodes[0], bending, alpha, rho, d_alpha, d_rho);
+  // Linear in ε between the corner nodes, of the factors (and their α- and ρ-slopes) at each; the
+  // slope in ε one-sided (the right interval's) at a node, zero outside (0, 1).
+  const int n = int(nodes.size());
+  const double h = corner_node(1), x = std::clamp(epsilon, 0.0, corner_node(n - 1));
+  const int j = std::min(int(x / h), n - 2);
+  const double t = std::clamp(x / h - j, 0.0, 1.0);
+  double a0 = 0, r0 = 0, a1 = 0, r1 = 0;
+  const double v0 = single(nodes[size_t(j)], bending, alpha, rho, &a0, &r0);
+  const double v1 = single(nodes[size_t(j + 1)], bending, alpha, rho, &a1, &r1);
+  const double value = (1 - t) * v0 + t * v1, da = (1 - t) * a0 + t * a1, dr = (1 - t) * r0 + t * r1;
+  const double de = epsilon > 0 && epsilon < corner_node(n - 1) ? (v1 - v0) / h : 0.0;
+  if (d_alpha) *d_alpha = da;
+  if (d_rho) *d_rho = dr;
+  if (d_epsilon) *d_epsilon = de;
+  return value;
 }
 
 double ConcentrationMap::by_state(const std::vector<MonotoneCurve>& nodes, const MonotoneCurve& worst, double alpha,
@@ -275,39 +338,50 @@ RowMatX3d scatter_state_gradients(const ShellModel& model, const std::vector<Fac
 
 /// W_peak_t = a W_t + b M_t (M_t the membrane part of W_t) at α_t = alpha with blend weight w, and
 /// da/dα, db/dα (the header's rule); by state, the α-derivatives include ρ's, and rho_m, rho_b are
-/// ∂(k_m q_m)/∂ρ^m and ∂(k_b q_b)/∂ρ^b (W_peak = k_b q_b (W − M) + k_m q_m M). By shape, da_dh and
-/// db_dh hold ∂a/∂h_s and ∂b/∂h_s (one per shape).
+/// ∂(k_m q_m)/∂ρ^m and ∂(k_b q_b)/∂ρ^b (W_peak = k_b q_b (W − M) + k_m q_m M). By shape, da_dh,
+/// db_dh hold ∂a/∂h_s, ∂b/∂h_s, and da_de, db_de ∂a/∂e_s, ∂b/∂e_s (e the cover's corner moments).
 struct PeakCoefficients {
   double a = 1, b = 0, da = 0, db = 0, rho_m = 0, rho_b = 0;
-  std::vector<double> da_dh, db_dh;
+  std::vector<double> da_dh, db_dh, da_de, db_de;
 };
 
-/// One part's factor k and its slopes: dk/dα (at fixed ρ), dk/dρ, and by shape dk/dh_s.
+/// One part's factor k and its slopes: dk/dα (at fixed ρ), dk/dρ, and by shape dk/dh_s, dk/de_s.
 struct PartFactor {
   double k = 1, d_alpha = 0, d_rho = 0;
-  std::vector<double> d_h;
+  std::vector<double> d_h, d_e;
+};
+
+/// A face's cover by shape: covered fractions h and corner moments e (empty: ε = 0).
+struct FaceCover {
+  Eigen::RowVectorXd h, e;
 };
 
 /// The part's factor by shape (the header's rule): K − 1 = ‖x‖_p over the shapes, x_s = s(h_s/δ)(K_s − 1)
-/// with K_s unramped; `h` the face's covered fractions.
-PartFactor shape_mix(const ConcentrationMap& K, bool bending, double alpha, const double* rho,
-                     const Eigen::Ref<const Eigen::RowVectorXd>& h) {
+/// with K_s unramped at ε̄_s = e_s/h_s.
+PartFactor shape_mix(const ConcentrationMap& K, bool bending, double alpha, const double* rho, const FaceCover& cover) {
+  const Eigen::RowVectorXd& h = cover.h;
+  const bool corner = cover.e.size() == h.size();
   const int n = int(h.size());
   PartFactor f;
   f.d_h.assign(size_t(n), 0.0);
-  std::vector<double> x(size_t(n), 0.0), dx_alpha(size_t(n), 0.0), dx_rho(size_t(n), 0.0), dx_h(size_t(n), 0.0);
+  f.d_e.assign(size_t(n), 0.0);
+  std::vector<double> x(size_t(n), 0.0), dx_alpha(size_t(n), 0.0), dx_rho(size_t(n), 0.0), dx_h(size_t(n), 0.0),
+      dx_e(size_t(n), 0.0);
   double max_x = 0;
   for (int s = 0; s < n; ++s) {
     if (!(h[s] > 0)) continue;
-    double dk = 0, dk_rho = 0;
-    const double k = K.shape_factor(s, bending, alpha, rho, &dk, &dk_rho);
+    const double epsilon = corner ? cover.e[s] / h[s] : 0.0;
+    double dk = 0, dk_rho = 0, dk_eps = 0;
+    const double k = K.shape_factor(s, bending, alpha, rho, epsilon, &dk, &dk_rho, &dk_eps);
     const double t = h[s] / kConcentrationRamp;
     // The ramp in the shape's covered fraction: s(t) = 3t² − 2t³ below t = 1.
     const double ramp = t >= 1 ? 1 : t * t * (3 - 2 * t), d_ramp = t >= 1 ? 0 : 6 * t * (1 - t) / kConcentrationRamp;
     x[size_t(s)] = ramp * (k - 1);
     dx_alpha[size_t(s)] = ramp * dk;
     dx_rho[size_t(s)] = ramp * dk_rho;
-    dx_h[size_t(s)] = d_ramp * (k - 1);
+    // ε̄ = e/h: ∂ε̄/∂h = −ε̄/h, ∂ε̄/∂e = 1/h.
+    dx_h[size_t(s)] = d_ramp * (k - 1) - ramp * dk_eps * epsilon / h[s];
+    dx_e[size_t(s)] = ramp * dk_eps / h[s];
     max_x = std::max(max_x, x[size_t(s)]);
   }
   if (!(max_x > 0)) return f;
@@ -321,6 +395,7 @@ PartFactor shape_mix(const ConcentrationMap& K, bool bending, double alpha, cons
     f.d_alpha += g * dx_alpha[size_t(s)];
     f.d_rho += g * dx_rho[size_t(s)];
     f.d_h[size_t(s)] = g * dx_h[size_t(s)];
+    f.d_e[size_t(s)] = g * dx_e[size_t(s)];
   }
   return f;
 }
@@ -335,16 +410,16 @@ PartFactor worst_factor(const ConcentrationMap& K, bool bending, double alpha, c
   return f;
 }
 
-/// `h`: the face's covered fractions by shape (null: the worst shape's factors).
+/// `cover`: the face's cover by shape (null: the worst shape's factors).
 PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const ConcentrationMap& K, double alpha, double w,
-                                   const FaceState* state, const Eigen::RowVectorXd* h = nullptr) {
+                                   const FaceState* state, const FaceCover* cover = nullptr) {
   PeakCoefficients c;
   if (alpha >= 1) return c;
   const double* rho_m = state && K.by_biaxiality() ? &state->membrane.rho : nullptr;
   const double* rho_b = state && state->bend && K.by_biaxiality() ? &state->bending.rho : nullptr;
-  const bool by_shape = h && K.by_shape() && h->sum() > 0;
-  PartFactor m = by_shape ? shape_mix(K, false, alpha, rho_m, *h) : worst_factor(K, false, alpha, rho_m);
-  PartFactor b = by_shape ? shape_mix(K, true, alpha, rho_b, *h) : worst_factor(K, true, alpha, rho_b);
+  const bool by_shape = cover && K.by_shape() && cover->h.sum() > 0;
+  PartFactor m = by_shape ? shape_mix(K, false, alpha, rho_m, *cover) : worst_factor(K, false, alpha, rho_m);
+  PartFactor b = by_shape ? shape_mix(K, true, alpha, rho_b, *cover) : worst_factor(K, true, alpha, rho_b);
   // ρ's own α-dependence (through the split's ratios).
   if (rho_m) m.d_alpha += m.d_rho * state->membrane.d_alpha;
   if (rho_b) b.d_alpha += b.d_rho * state->bending.d_alpha;
@@ -361,11 +436,13 @@ PeakCoefficients peak_coefficients(const FillStiffnessMap& g, const Concentratio
   c.rho_m = w * m.d_rho * qm;
   c.rho_b = w * b.d_rho * qb;
   if (by_shape) {
-    c.da_dh.resize(m.d_h.size());
-    c.db_dh.resize(m.d_h.size());
-    for (size_t s = 0; s < m.d_h.size(); ++s) {
+    const size_t n = m.d_h.size();
+    c.da_dh.resize(n), c.db_dh.resize(n), c.da_de.resize(n), c.db_de.resize(n);
+    for (size_t s = 0; s < n; ++s) {
       c.da_dh[s] = w * b.d_h[s] * qb;
       c.db_dh[s] = w * m.d_h[s] * qm - c.da_dh[s];
+      c.da_de[s] = w * b.d_e[s] * qb;
+      c.db_de[s] = w * m.d_e[s] * qm - c.da_de[s];
     }
   }
   return c;
@@ -376,13 +453,21 @@ void check_weight(const ShellModel& model, const Eigen::VectorXd* weight) {
     throw InternalError("peak_energy_density: the weights do not match the faces");
 }
 
-/// `covered` when the rule by shape applies (K.by_shape()), null otherwise.
-const Eigen::MatrixXd* checked_covered(const ShellModel& model, const ConcentrationMap& K,
-                                       const Eigen::MatrixXd* covered) {
-  if (!covered || !K.by_shape()) return nullptr;
-  if (covered->rows() != model.num_faces() || covered->cols() != K.num_shapes())
-    throw InternalError("peak_energy_density: the covered fractions do not match the faces and the shapes");
-  return covered;
+/// `cover` when the rule by shape applies (K.by_shape()), null otherwise.
+const ShapeCover* checked_cover(const ShellModel& model, const ConcentrationMap& K, const ShapeCover* cover) {
+  if (!cover || cover->empty() || !K.by_shape()) return nullptr;
+  const auto fits = [&](const Eigen::MatrixXd& m) { return m.rows() == model.num_faces() && m.cols() == K.num_shapes(); };
+  if (!fits(cover->covered) || (cover->corner.size() > 0 && !fits(cover->corner)))
+    throw InternalError("peak_energy_density: the cover does not match the faces and the shapes");
+  return cover;
+}
+
+/// Face t's row of the cover.
+FaceCover face_cover(const ShapeCover& cover, int t) {
+  FaceCover f;
+  f.h = cover.covered.row(t);
+  if (cover.corner.size() > 0) f.e = cover.corner.row(t);
+  return f;
 }
 
 }  // namespace
@@ -400,17 +485,17 @@ Eigen::MatrixX2d stress_biaxiality(const ShellModel& model, const RowMatX3d& x, 
 
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const ConcentrationMap& K, const Eigen::VectorXd* weight,
-                                    const Eigen::MatrixXd* covered) {
+                                    const ShapeCover* cover) {
   check_weight(model, weight);
-  covered = checked_covered(model, K, covered);
+  cover = checked_cover(model, K, cover);
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   const Eigen::VectorXd M = energy_density(model, x, alpha, DensityElements::Membrane);
   const std::vector<FaceState> states = K.by_biaxiality() ? face_states(model, x, alpha, K) : std::vector<FaceState>{};
   Eigen::VectorXd peak(model.num_faces());
   tbb::parallel_for(0, model.num_faces(), [&](int t) {
-    const Eigen::RowVectorXd h = covered ? Eigen::RowVectorXd(covered->row(t)) : Eigen::RowVectorXd();
+    const FaceCover f = cover ? face_cover(*cover, t) : FaceCover{};
     const PeakCoefficients c = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0,
-                                                 states.empty() ? nullptr : &states[size_t(t)], covered ? &h : nullptr);
+                                                 states.empty() ? nullptr : &states[size_t(t)], cover ? &f : nullptr);
     peak[t] = c.a * W[t] + c.b * M[t];
   });
   return peak;
@@ -418,12 +503,15 @@ Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x,
 
 void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                              const ConcentrationMap& K, const Eigen::VectorXd* weight, const Eigen::VectorXd& c,
-                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha, const Eigen::MatrixXd* covered,
-                             Eigen::MatrixXd* d_covered) {
+                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha, const ShapeCover* cover,
+                             ShapeCover* d_cover) {
   check_weight(model, weight);
-  const Eigen::MatrixXd* mix = checked_covered(model, K, covered);
+  const ShapeCover* mix = checked_cover(model, K, cover);
   const int nf = model.num_faces();
-  if (d_covered) d_covered->setZero(nf, covered ? covered->cols() : 0);
+  if (d_cover) {
+    d_cover->covered.setZero(nf, cover ? cover->covered.cols() : 0);
+    d_cover->corner.setZero(cover && cover->corner.size() > 0 ? nf : 0, cover ? cover->corner.cols() : 0);
+  }
   if (c.size() != nf) throw InternalError("peak_energy_density_vjp: the weights c do not match the faces");
   const bool by_state = K.by_biaxiality();
   const std::vector<FaceState> states =
@@ -433,14 +521,18 @@ void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const 
   Eigen::VectorXd ca(nf), cb(nf), dca(nf), dcb(nf);
   Eigen::MatrixX2d c_rho = Eigen::MatrixX2d::Zero(nf, 2);  // c_t ∂W_peak_t/∂ρ_t^m, ∂ρ_t^b
   tbb::parallel_for(0, nf, [&](int t) {
-    const Eigen::RowVectorXd h = mix ? Eigen::RowVectorXd(mix->row(t)) : Eigen::RowVectorXd();
+    const FaceCover f = mix ? face_cover(*mix, t) : FaceCover{};
     const PeakCoefficients k = peak_coefficients(model.fill_stiffness(), K, alpha[t], weight ? (*weight)[t] : 1.0,
-                                                 by_state ? &states[size_t(t)] : nullptr, mix ? &h : nullptr);
+                                                 by_state ? &states[size_t(t)] : nullptr, mix ? &f : nullptr);
     ca[t] = c[t] * k.a, cb[t] = c[t] * k.b, dca[t] = c[t] * k.da, dcb[t] = c[t] * k.db;
     c_rho(t, 0) = c[t] * k.rho_m * M[t];
     c_rho(t, 1) = c[t] * k.rho_b * (W[t] - M[t]);
-    if (d_covered)
-      for (size_t s = 0; s < k.da_dh.size(); ++s) (*d_covered)(t, Eigen::Index(s)) = c[t] * (k.da_dh[s] * W[t] + k.db_dh[s] * M[t]);
+    if (d_cover)
+      for (size_t s = 0; s < k.da_dh.size(); ++s) {
+        d_cover->covered(t, Eigen::Index(s)) = c[t] * (k.da_dh[s] * W[t] + k.db_dh[s] * M[t]);
+        if (d_cover->corner.size() > 0)
+          d_cover->corner(t, Eigen::Index(s)) = c[t] * (k.da_de[s] * W[t] + k.db_de[s] * M[t]);
+      }
   });
   // Σ c a W + Σ c b M: through the densities' own vector–Jacobian products, plus the coefficients'
   // own α-derivatives (ρ's included), plus, by state, the factors' dependence on x through ρ.

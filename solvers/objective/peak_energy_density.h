@@ -70,8 +70,26 @@
 /// C¹ where a shape first enters a face. A face of one shape has that shape's ramped factor — the
 /// rule above with 1 − α → h_t — and a design of one shape keeps the rule above exactly (its worst
 /// shape is its only one). W_peak then depends on the stencils through h too: ∂W_peak_t/∂h_ts
-/// (peak_energy_density_vjp's d_covered), pulled back through the clipping
+/// (peak_energy_density_vjp's d_cover), pulled back through the clipping
 /// (FillRatioEvaluator::pullback_by_shape).
+///
+/// K by corner. A shape with sharp corners turning into the material (a star's tips, a flower's
+/// notches) has an unbounded stress there; `cutwork verify` leaves the rim within the fabrication
+/// minimum feature g of such corners out of its conforming peak (a printed corner is rounded at
+/// about that size), and the cell's rim, resolved at R/16, reads a tip's value that grows as it is
+/// refined. The cells read K at corner nodes ε_c (cell_homogenisation.h: the rim within ε_c bounding
+/// radii of a singular corner left out, the corners found as verify finds them); a face reads
+/// K_s(α, ρ, ε̄_ts) with ε̄_ts = Σ f ε / Σ f over the pieces of shape s in it, ε = g / (the
+/// stencil's scale) — the rule's radius in that stencil's own size, so a small star's tips are
+/// left out over more of its rim than a large one's. Linear in ε between the nodes, held at
+/// ε ≥ 1: the corner rule itself jumps in ε (a round becomes a corner once it turns 30° within
+/// ε/4: the default flower's uniaxial K_m at α = 0.75 reads 20.0 up to ε = 0.25 and 3.0 from
+/// 0.375), and a C¹ spline through such a step over- and undershoots (Catmull–Rom dipped to 1.7
+/// between 0.375 and 0.5); linear is Lipschitz with kinks at the nodes, as ρ is at its
+/// subgradient points, and its ε-slope at a node is the right interval's. ε̄ moves with the
+/// stencils' scales and pieces: its derivatives join d_cover. A design of one shape with corners reads its factors this way too (a face of it,
+/// by the rule above, is that shape's); a shape without corners (a circle) has the same K at
+/// every node.
 ///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
 ///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
@@ -82,6 +100,7 @@
 #include <Eigen/Core>
 
 #include "host/scene/load_case.h"
+#include "solvers/objective/objective_terms.h"
 #include "solvers/shell/fill_stiffness_map.h"
 #include "solvers/shell/shell_model.h"
 
@@ -119,9 +138,10 @@ class ConcentrationMap {
   /// True when the curve carries K by biaxiality (membrane and bending).
   bool by_biaxiality() const { return !m_worst.membrane_states.empty(); }
   /// True when the curve carries the factors of two or more shapes of its own
-  /// (FillStiffnessCurve::shape_concentration): W_peak then mixes them per face when it is given
-  /// the shapes' covered fractions (the rule by shape above).
-  bool by_shape() const { return m_calibrated_shapes >= 2; }
+  /// (FillStiffnessCurve::shape_concentration), or of one whose factors change under the corner
+  /// rule (a shape with singular corners): W_peak then reads them per face when it is given the
+  /// shapes' cover (the rules by shape and by corner above).
+  bool by_shape() const { return m_by_shape; }
   /// Number of shapes the factors by shape are indexed by (the library's; 0 without them).
   int num_shapes() const { return int(m_shapes.size()); }
   /// The worst state's K_m(α) with the ramp to 1 above (1 for α ≥ 1, and when empty()); dK_m/dα
@@ -137,9 +157,13 @@ class ConcentrationMap {
     return by_state(m_worst.bending_states, m_worst.bending, alpha, rho, d_alpha, d_rho, true);
   }
   /// Shape `shape`'s own factor, membrane or bending, *without* the ramp in α (the rule by shape
-  /// ramps by the shape's covered fraction instead), at biaxiality `rho` (null: the worst state's);
-  /// the worst over the shapes for a shape the curve has no factors of. Slopes as above.
-  double shape_factor(int shape, bool bending, double alpha, const double* rho, double* d_alpha, double* d_rho) const;
+  /// ramps by the shape's covered fraction instead), at biaxiality `rho` (null: the worst state's)
+  /// and the corner rule's radius `epsilon` (bounding radii, clamped to [0, 1]; the shape's ε = 0
+  /// factors when the curve has none by corner), linear between the corner nodes; the worst over the
+  /// shapes for a shape the curve has no factors of. Slopes as above, dK/dε into `d_epsilon` (the
+  /// right interval's at a node, 0 outside (0, 1)); any may be null.
+  double shape_factor(int shape, bool bending, double alpha, const double* rho, double epsilon, double* d_alpha,
+                      double* d_rho, double* d_epsilon = nullptr) const;
   /// r_K(α), r_G(α) of the split (1 each without it, and for α ≥ 1), the α-slopes into `slope`.
   Eigen::Vector2d split_ratios(bool bending, double alpha, Eigen::Vector2d* slope = nullptr) const;
   /// The calibrated ratios ρ = g/α of the curve the factors came with (1 for α ≥ 1).
@@ -156,9 +180,13 @@ class ConcentrationMap {
   static double ratio(const MonotoneCurve& r, double alpha, double* slope);
   static double by_state(const std::vector<MonotoneCurve>& nodes, const MonotoneCurve& worst, double alpha, double rho,
                          double* d_alpha, double* d_rho, bool ramp);
+  /// One set per corner node (one, ε = 0, without the tables by corner); empty for a shape the
+  /// curve has no factors of.
+  using ShapeFactors = std::vector<Factors>;
+  static double single(const Factors& f, bool bending, double alpha, const double* rho, double* d_alpha, double* d_rho);
   Factors m_worst;
-  std::vector<Factors> m_shapes;  ///< by shape type; a Factors with empty curves for a shape without its own
-  int m_calibrated_shapes = 0;
+  std::vector<ShapeFactors> m_shapes;  ///< by shape type
+  bool m_by_shape = false;
   MonotoneCurve m_membrane_ratio, m_bending_ratio;
   MonotoneCurve m_membrane_bulk, m_membrane_shear, m_bending_bulk, m_bending_shear;  ///< the split's r
 };
@@ -173,12 +201,12 @@ bool concentration_by_shape(const FillStiffnessCurve& curve);
 /// of a hole itself (w = 0: the cell filter's blend b of solvers/shell/cell_filter.h, 0 where four
 /// or more triangles span a stencil) is not concentrated a second time. Only K is blended: the
 /// ratios r convert the model's W into perforated material's mean W and stay as they are.
-/// `covered` (#F × K.num_shapes(), optional): the shapes' covered fractions h_ts (K by shape, above);
-/// used when K.by_shape(), and a face whose row sums to 0 takes the worst shape's factors.
-/// Precondition: !K.empty().
+/// `cover` (optional; #F × K.num_shapes() each): the stencils' cover of the faces by shape (K by
+/// shape and by corner, above); used when K.by_shape(), and a face whose covered row sums to 0
+/// takes the worst shape's factors. Precondition: !K.empty().
 Eigen::VectorXd peak_energy_density(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const ConcentrationMap& K, const Eigen::VectorXd* weight = nullptr,
-                                    const Eigen::MatrixXd* covered = nullptr);
+                                    const ShapeCover* cover = nullptr);
 
 /// Per face the biaxiality ρ (above) of its membrane state (column 0) and of its bending state
 /// (column 1; NaN without a shape-operator bend), #F×2, at fill ratios alpha; 0 for a face without
@@ -187,12 +215,13 @@ Eigen::MatrixX2d stress_biaxiality(const ShellModel& model, const RowMatX3d& x, 
                                    const ConcentrationMap& K);
 
 /// For weights c (#F): Σ_t c_t ∂W_peak_t/∂x into d_positions (#V×3; rows of fixed vertices zero)
-/// and Σ_t c_t ∂W_peak_t/∂α into d_alpha (#F), at fixed `weight`, and with `covered` (K by shape)
-/// c_t ∂W_peak_t/∂h_ts into d_covered (#F × K.num_shapes(); zeros where the rule by shape does not
-/// apply). Any output may be null. The twin of energy_density_vjp for an objective built on W_peak.
+/// and Σ_t c_t ∂W_peak_t/∂α into d_alpha (#F), at fixed `weight`, and with `cover` (K by shape)
+/// Σ_t c_t ∂W_peak_t/∂(cover) into d_cover (the same sizes as cover's; zeros where the rule by
+/// shape does not apply). Any output may be null. The twin of energy_density_vjp for an objective
+/// built on W_peak.
 void peak_energy_density_vjp(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                              const ConcentrationMap& K, const Eigen::VectorXd* weight, const Eigen::VectorXd& c,
-                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha,
-                             const Eigen::MatrixXd* covered = nullptr, Eigen::MatrixXd* d_covered = nullptr);
+                             RowMatX3d* d_positions, Eigen::VectorXd* d_alpha, const ShapeCover* cover = nullptr,
+                             ShapeCover* d_cover = nullptr);
 
 }  // namespace cutwork::solvers

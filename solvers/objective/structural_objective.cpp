@@ -18,7 +18,7 @@ ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d
   if (peak && (!peak->K || peak->K->empty()))
     throw InternalError("energy_density_objective: the peak measure needs concentration factors");
   const Eigen::VectorXd W =
-      peak ? peak_energy_density(model, x, alpha, *peak->K, peak->weight, peak->covered) : energy_density(model, x, alpha);
+      peak ? peak_energy_density(model, x, alpha, *peak->K, peak->weight, peak->cover) : energy_density(model, x, alpha);
   const int m = model.num_faces();
   // ∂S/∂W_i = (W_i − β)₊ / (m W_ref²): the weights of the vector–Jacobian products of W.
   Eigen::VectorXd weights = Eigen::VectorXd::Zero(m);
@@ -35,7 +35,7 @@ ObjectiveTerms energy_density_objective(const ShellModel& model, const RowMatX3d
   if (weights.any()) {
     if (peak)
       peak_energy_density_vjp(model, x, alpha, *peak->K, peak->weight, weights, &t.d_positions, &t.d_alpha,
-                              peak->covered, peak->covered && peak->K->by_shape() ? &t.d_covered : nullptr);
+                              peak->cover, peak->cover && peak->K->by_shape() ? &t.d_cover : nullptr);
     else
       energy_density_vjp(model, x, alpha, weights, &t.d_positions, &t.d_alpha);
   }

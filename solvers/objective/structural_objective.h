@@ -31,11 +31,11 @@
 namespace cutwork::solvers {
 
 /// The peak measure's data: the concentration factors, the blend weights (#F; null: all ones) and
-/// the shapes' covered fractions (#F × shapes; null: the worst shape's factors everywhere).
+/// the stencils' cover by shape (null: the worst shape's factors everywhere).
 struct PeakMeasure {
   const ConcentrationMap* K = nullptr;
   const Eigen::VectorXd* weight = nullptr;
-  const Eigen::MatrixXd* covered = nullptr;
+  const ShapeCover* cover = nullptr;
 };
 
 /// S_stab and its partials at positions x (#V×3, m) and fill ratios alpha (#F).

@@ -37,7 +37,7 @@ std::vector<bool> material_vertices(const RowMatX3i& faces, int num_vertices, co
 
 EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                          const Eigen::VectorXd* concentration_weight,
-                                         const Eigen::MatrixXd* covered) {
+                                         const ShapeCover* cover) {
   EquilibriumSummary s;
   s.strain_energy = shell_energy(model, x, alpha);
   const RowMatX3d u = x - model.rest_positions();
@@ -58,7 +58,7 @@ EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3
     }
   const ConcentrationMap K(model.mechanics().stiffness_curve);
   if (!K.empty()) {
-    s.peak_energy_density = peak_energy_density(model, x, alpha, K, concentration_weight, covered);
+    s.peak_energy_density = peak_energy_density(model, x, alpha, K, concentration_weight, cover);
     for (int f = 0; f < model.num_faces(); ++f)
       if (faces[size_t(f)] && (s.W_peak_max_face < 0 || s.peak_energy_density[f] > s.W_peak_max)) {
         s.W_peak_max = s.peak_energy_density[f];

@@ -57,11 +57,11 @@ struct EquilibriumSummary : EquilibriumScalars {
 };
 
 /// `concentration_weight` (#F, optional): peak_energy_density's weight for W_peak (the cell
-/// filter's blend where there is one); `covered` (#F × shapes, optional): its shapes' covered
-/// fractions (the factors by shape, peak_energy_density.h).
+/// filter's blend where there is one); `cover` (optional): the stencils' cover by shape (the
+/// factors by shape and by corner, peak_energy_density.h).
 EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                          const Eigen::VectorXd* concentration_weight = nullptr,
-                                         const Eigen::MatrixXd* covered = nullptr);
+                                         const ShapeCover* cover = nullptr);
 
 /// S = Ŵ(x, α): ∂S/∂x = ∂Ŵ/∂x (fixed rows zero), ∂S/∂α = ∂Ŵ/∂α.
 ObjectiveTerms strain_energy_terms(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha);

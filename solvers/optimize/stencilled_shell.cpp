@@ -4,6 +4,7 @@
 #include "host/core/internal_error.h"
 #include "host/core/timer.h"
 #include "solvers/objective/peak_energy_density.h"
+#include "solvers/objective/shape_cover.h"
 #include "solvers/sensitivity/adjoint.h"
 
 namespace cutwork::solvers {
@@ -37,7 +38,7 @@ const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilPara
   if (stencils.empty()) {
     m_alpha.setOnes(m_sim->num_faces());
     if (!m_filter.identity()) m_face_alpha = m_alpha;
-    m_covered.resize(0, 0);
+    m_cover = ShapeCover{};
     return m_alpha;
   }
   Stopwatch sw;
@@ -58,13 +59,10 @@ const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilPara
     m_face_alpha = m_fill->alpha();
     m_alpha = m_filter.apply(m_face_alpha);
   }
-  // The shapes' covered fractions, where W_peak reads each shape's own factors.
-  m_covered.resize(0, 0);
-  if (concentration_by_shape(m_model->mechanics().stiffness_curve)) {
-    m_covered = m_fill->covered_by_shape();
-    if (!m_filter.identity())
-      for (Eigen::Index k = 0; k < m_covered.cols(); ++k) m_covered.col(k) = m_filter.apply(m_covered.col(k));
-  }
+  // The cover by shape, where W_peak reads its factors by shape and by corner.
+  m_cover = ShapeCover{};
+  if (concentration_by_shape(m_model->mechanics().stiffness_curve))
+    m_cover = shape_cover(*m_fill, stencils, m_model->mechanics().corner_radius, m_filter);
   m_times.fill += sw.seconds();
   ++m_times.fills;
   return m_alpha;
@@ -75,7 +73,7 @@ const EquilibriumStats& StencilledShell::equilibrate() {
   try {
     const EquilibriumStats& s = m_solver->solve(m_alpha);
     m_equilibrium_stencils = m_stencils;
-    m_equilibrium_covered = m_covered;
+    m_equilibrium_cover = m_cover;
     m_times.equilibrium += sw.seconds();
     ++m_times.equilibria;
     m_times.newton_iterations += s.newton_iterations;
@@ -90,14 +88,14 @@ void StencilledShell::restore_equilibrium(std::span<const StencilParams> stencil
   set_stencils(stencils);
   m_solver->restore_equilibrium(positions, m_alpha);
   m_equilibrium_stencils = m_stencils;
-  m_equilibrium_covered = m_covered;
+  m_equilibrium_cover = m_cover;
 }
 
 EquilibriumSummary StencilledShell::summary() const {
   if (!m_solver->has_solution()) throw InternalError("no equilibrium has been solved for yet");
   return summarize_equilibrium(*m_model, m_solver->positions(), m_solver->alpha(),
                                m_filter.identity() ? nullptr : &m_filter.blend(),
-                               m_equilibrium_covered.size() ? &m_equilibrium_covered : nullptr);
+                               m_equilibrium_cover.empty() ? nullptr : &m_equilibrium_cover);
 }
 
 void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,
@@ -110,12 +108,9 @@ void StencilledShell::parameter_gradient(const ObjectiveTerms& terms, Eigen::Vec
   ++m_times.adjoints;
   sw.restart();
   m_fill->pullback(m_filter.pull_back(s.gradient), d_params);
-  if (terms.d_covered.size() > 0 && m_covered.size() > 0) {
-    Eigen::MatrixXd g = terms.d_covered;
-    if (!m_filter.identity())
-      for (Eigen::Index k = 0; k < g.cols(); ++k) g.col(k) = m_filter.pull_back(g.col(k));
+  if (!terms.d_cover.empty() && !m_cover.empty()) {
     Eigen::VectorXd by_shape;
-    m_fill->pullback_by_shape(g, by_shape);
+    shape_cover_pullback(*m_fill, m_stencils, m_model->mechanics().corner_radius, m_filter, terms.d_cover, by_shape);
     d_params += by_shape;
   }
   m_times.pullback += sw.seconds();

@@ -60,12 +60,11 @@ class StencilledShell {
   /// The fill ratios the shell sees after the last set_stencils (#F): the filtered B α, which
   /// is the kernels' α without a filter. And its stencils.
   const Eigen::VectorXd& alpha() const { return m_alpha; }
-  /// The shapes' covered fractions of each face after the filter (#F × shapes, B h with h of
-  /// FillRatioEvaluator::covered_by_shape) when W_peak mixes the shapes' factors per face (a
-  /// calibrated curve with two or more shapes' own factors, peak_energy_density.h); null otherwise.
-  /// summary() and a peak objective (PeakMeasure::covered) read it; parameter_gradient pulls an
-  /// objective's ∂S/∂h (ObjectiveTerms::d_covered) back through it.
-  const Eigen::MatrixXd* covered() const { return m_covered.size() ? &m_covered : nullptr; }
+  /// The stencils' cover of each face by shape after the filter (solvers/objective/shape_cover.h)
+  /// when W_peak reads its factors by shape and by corner (ConcentrationMap::by_shape() of the
+  /// model's curve); null otherwise. summary() and a peak objective (PeakMeasure::cover) read it;
+  /// parameter_gradient pulls an objective's ObjectiveTerms::d_cover back through it.
+  const ShapeCover* cover() const { return m_cover.empty() ? nullptr : &m_cover; }
   /// The kernels' own fill ratios of the last set_stencils (#F), before the filter.
   const Eigen::VectorXd& face_alpha() const { return m_filter.identity() ? m_alpha : m_face_alpha; }
   const std::vector<StencilParams>& stencils() const { return m_stencils; }
@@ -88,8 +87,8 @@ class StencilledShell {
   EquilibriumSummary summary() const;
 
   /// dS/dp (#S×5) of an objective whose terms were evaluated at the last equilibrium, by the
-  /// adjoint and the pull-back (and ∂S/∂h's through the covered fractions, when the terms carry
-  /// it); needs fill-ratio derivatives and at least one stencil. Returns
+  /// adjoint and the pull-back (and the terms' ∂S/∂(cover) through shape_cover_pullback, when they
+  /// carry it); needs fill-ratio derivatives and at least one stencil. Returns
   /// dS/dᾱ (#F, with respect to the filtered fill ratios alpha()) too when `d_alpha` is not null.
   void parameter_gradient(const ObjectiveTerms& terms, Eigen::VectorXd& d_params,
                           Eigen::VectorXd* d_alpha = nullptr);
@@ -129,8 +128,8 @@ class StencilledShell {
   CellFilter m_filter;
   Eigen::VectorXd m_alpha;       ///< B α (what the shell sees)
   Eigen::VectorXd m_face_alpha;  ///< α (with a filter; empty without)
-  Eigen::MatrixXd m_covered;     ///< B h (covered()); empty when not by shape
-  Eigen::MatrixXd m_equilibrium_covered;  ///< m_covered of the last equilibrium (summary())
+  ShapeCover m_cover;              ///< cover(); empty when not by shape
+  ShapeCover m_equilibrium_cover;  ///< m_cover of the last equilibrium (summary())
   std::vector<StencilParams> m_stencils;
   std::vector<StencilParams> m_equilibrium_stencils;
   int m_num_stencils = 0;

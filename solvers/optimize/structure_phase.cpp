@@ -31,7 +31,7 @@ ObjectiveTerms objective_terms(const StencilledShell& shell, StructuralObjective
     return compliance_objective(model, x, alpha, c_ref);
   }
   if (!K) return energy_density_objective(model, x, alpha, beta, w_ref, &W);
-  const PeakMeasure peak{K, shell.cell_filter().identity() ? nullptr : &shell.cell_filter().blend(), shell.covered()};
+  const PeakMeasure peak{K, shell.cell_filter().identity() ? nullptr : &shell.cell_filter().blend(), shell.cover()};
   return energy_density_objective(model, x, alpha, beta, w_ref, &W, &peak);
 }
 

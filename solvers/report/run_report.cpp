@@ -124,10 +124,22 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
             j["membrane_concentration_by_biaxiality"] = K.membrane_by_biaxiality;
             j["bending_concentration_by_biaxiality"] = K.bending_by_biaxiality;
           }
+          // Under the corner rule: per sample, corner node major, kBiaxialityNodes per node.
+          if (!K.membrane_by_corner.empty()) {
+            j["membrane_concentration_by_corner"] = K.membrane_by_corner;
+            j["bending_concentration_by_corner"] = K.bending_by_corner;
+          }
         }
       }
       if (!c.shape_weights.empty()) r["mechanics"]["stiffness_curve"]["shape_weights"] = weights;
-      if (!by_shape.empty()) r["mechanics"]["stiffness_curve"]["concentration_by_shape"] = by_shape;
+      if (!by_shape.empty()) {
+        r["mechanics"]["stiffness_curve"]["concentration_by_shape"] = by_shape;
+        // The corner rule's radius (m) and its nodes in stencil bounding radii.
+        std::vector<double> nodes;
+        for (int k = 0; k < kCornerNodes; ++k) nodes.push_back(corner_node(k));
+        r["mechanics"]["stiffness_curve"]["corner_nodes"] = nodes;
+        r["mechanics"]["corner_radius"] = mechanics.corner_radius;
+      }
     }
   }
   r["timings"] = timings_json(timings);

@@ -76,32 +76,49 @@ TEST(CoveredByShape, PullbackMatchesCentralDifferences) {
   std::normal_distribution<double> n;
   Eigen::MatrixXd G(mesh.num_faces(), lib.size());
   for (Eigen::Index i = 0; i < G.size(); ++i) G.data()[i] = n(rng);
-  Eigen::VectorXd g;
-  ev.pullback_by_shape(G, g);
-  ASSERT_EQ(g.size(), 5 * Eigen::Index(p0.size()));
-  EXPECT_GT(g.norm(), 0.0);
-  FillRatioEvaluator moved(bvh, lib);
-  const int S = int(p0.size());
-  for (int dir = 0; dir < 4; ++dir) {
-    // Positions and scales in units of the stencil's size, angles in radians.
-    Eigen::VectorXd d(5 * S);
-    for (int i = 0; i < S; ++i) {
-      for (int k = 0; k < 5; ++k) d[5 * i + k] = n(rng) * (k == 4 ? 1.0 : p0[size_t(i)].scale);
+  // Weighted by a function of each stencil's scale (the corner rule's ε = r/s), and not.
+  const auto weights = [](const std::vector<StencilParams>& p, std::vector<double>& w, std::vector<double>* slope) {
+    w.clear();
+    if (slope) slope->clear();
+    for (const StencilParams& q : p) {
+      w.push_back(0.001 / q.scale);
+      if (slope) slope->push_back(-0.001 / (q.scale * q.scale));
     }
-    const auto along = [&](const Eigen::VectorXd& t) {
-      std::vector<StencilParams> p = p0;
+  };
+  for (const bool weighted : {false, true}) {
+    SCOPED_TRACE(weighted ? "weighted by 1 mm / scale" : "unweighted");
+    std::vector<double> w0, slope0;
+    if (weighted) weights(p0, w0, &slope0);
+    Eigen::VectorXd g;
+    ev.pullback_by_shape(G, g, w0, slope0);
+    ASSERT_EQ(g.size(), 5 * Eigen::Index(p0.size()));
+    EXPECT_GT(g.norm(), 0.0);
+    FillRatioEvaluator moved(bvh, lib);
+    const int S = int(p0.size());
+    for (int dir = 0; dir < 4; ++dir) {
+      // Positions and scales in units of the stencil's size, angles in radians.
+      Eigen::VectorXd d(5 * S);
       for (int i = 0; i < S; ++i) {
-        p[size_t(i)].position += t[0] * d.segment<3>(5 * i);
-        p[size_t(i)].scale += t[0] * d[5 * i + 3];
-        p[size_t(i)].angle += t[0] * d[5 * i + 4];
+        for (int k = 0; k < 5; ++k) d[5 * i + k] = n(rng) * (k == 4 ? 1.0 : p0[size_t(i)].scale);
       }
-      moved.evaluate(p);
-      return (G.array() * moved.covered_by_shape().array()).sum();
-    };
-    const test::DerivativeCheck c =
-        test::check_gradient(along, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, g.dot(d)), 1.0);
-    EXPECT_LE(c.best, 1e-6) << "direction " << dir << "\n" << c.table();
+      const auto along = [&](const Eigen::VectorXd& t) {
+        std::vector<StencilParams> p = p0;
+        for (int i = 0; i < S; ++i) {
+          p[size_t(i)].position += t[0] * d.segment<3>(5 * i);
+          p[size_t(i)].scale += t[0] * d[5 * i + 3];
+          p[size_t(i)].angle += t[0] * d[5 * i + 4];
+        }
+        moved.evaluate(p);
+        std::vector<double> w;
+        if (weighted) weights(p, w, nullptr);
+        return (G.array() * moved.covered_by_shape(w).array()).sum();
+      };
+      const test::DerivativeCheck c =
+          test::check_gradient(along, Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, g.dot(d)), 1.0);
+      EXPECT_LE(c.best, 1e-6) << "direction " << dir << "\n" << c.table();
+    }
   }
+  Eigen::VectorXd g;
   // The wrong size is the caller's bug.
   EXPECT_THROW(ev.pullback_by_shape(Eigen::MatrixXd::Zero(mesh.num_faces(), 1), g), InternalError);
 }

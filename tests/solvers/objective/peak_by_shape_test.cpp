@@ -1,8 +1,10 @@
-// W_peak's factors by shape (solvers/objective/peak_energy_density.h, "K by shape"): a face covered
+// W_peak's factors by shape and by corner (solvers/objective/peak_energy_density.h): a face covered
 // by one shape reads that shape's factors, exactly the one-shape rule; a face of several shapes the
-// smooth maximum, between the largest and 2^(1/p) times it; without covered fractions, or with a
-// row of zeros, the worst shape's factors as before. And the vector–Jacobian products in h (with
-// those in x and α) against central differences, through the ramp of a shape entering a face.
+// smooth maximum, between the largest and 2^(1/p) times it; without a cover, or with a row of
+// zeros, the worst shape's factors as before. By corner: the tables at their nodes, linear and
+// continuous between, held beyond ε = 1. And the vector–Jacobian products in the cover (covered
+// fractions and corner moments) with those in x and α against central differences, through the
+// ramp of a shape entering a face.
 #include <cmath>
 #include <random>
 
@@ -58,13 +60,46 @@ struct TwoShapes {
     }
     if (which < 0)
       for (int s = 0; s < 2; ++s) {
-        FillStiffnessCurve::ShapeConcentration k{km[s], kb[s], {}, {}};
-        if (by_state) k.membrane_by_biaxiality = biaxiality_table(km[s]), k.bending_by_biaxiality = biaxiality_table(kb[s]);
+        FillStiffnessCurve::ShapeConcentration k{km[s], kb[s], {}, {}, {}, {}};
+        if (by_state) {
+          k.membrane_by_biaxiality = biaxiality_table(km[s]), k.bending_by_biaxiality = biaxiality_table(kb[s]);
+          // Shape 1 has corners: its factors fall with the corner rule's radius ε, towards half
+          // their excess at ε = 1; shape 0 (a circle) has the same at every node.
+          if (corners) {
+            k.membrane_by_corner = by_corner(k.membrane_by_biaxiality, s == 1);
+            k.bending_by_corner = by_corner(k.bending_by_biaxiality, s == 1);
+          }
+        }
         c.shape_concentration.push_back(k);
       }
     return c;
   }
+
+  /// Tables by corner node from tables by biaxiality: K_c = 1 + (K − 1)(1 − ε_c(1 − ε_c/2)) where
+  /// `falls`, K otherwise.
+  static std::vector<std::vector<double>> by_corner(const std::vector<std::vector<double>>& table, bool falls) {
+    std::vector<std::vector<double>> out;
+    for (const std::vector<double>& row : table) {
+      std::vector<double> r;
+      for (int c = 0; c < kCornerNodes; ++c) {
+        const double e = corner_node(c), f = falls ? 1 - e * (1 - 0.5 * e) : 1.0;
+        for (const double k : row) r.push_back(1 + (k - 1) * f);
+      }
+      out.push_back(r);
+    }
+    return out;
+  }
+
+  bool corners = false;  ///< give shape 1 tables by corner (with by_state)
 };
+
+/// A cover from covered fractions h, with corner moments h·ε̄ when `epsilon` is given (#F × 2).
+ShapeCover make_cover(const Eigen::MatrixXd& h, const Eigen::MatrixXd* epsilon = nullptr) {
+  ShapeCover c;
+  c.covered = h;
+  if (epsilon) c.corner = h.cwiseProduct(*epsilon);
+  return c;
+}
 
 ShellModel with_curve(const test::CapFixture& fx, const FillStiffnessCurve& curve) {
   MechanicsSettings mech = fx.model->mechanics();
@@ -109,7 +144,7 @@ TEST(PeakByShape, AFaceOfOneShapeReadsThatShapesFactors) {
     for (int t = 0; t < w.size(); ++t) w[t] = (t % 3) / 2.0;
     for (int s = 0; s < 2; ++s) {
       SCOPED_TRACE(s == 0 ? "shape 0 alone" : "shape 1 alone");
-      const Eigen::MatrixXd h = split_cover(alpha, Eigen::VectorXd::Constant(alpha.size(), double(s)));
+      const ShapeCover h = make_cover(split_cover(alpha, Eigen::VectorXd::Constant(alpha.size(), double(s))));
       const ShellModel own_model = with_curve(fx, shapes.curve(by_state, s));
       const ConcentrationMap own(own_model.mechanics().stiffness_curve);
       ASSERT_FALSE(own.by_shape());
@@ -126,7 +161,7 @@ TEST(PeakByShape, AFaceOfOneShapeReadsThatShapesFactors) {
     }());
     const Eigen::VectorXd P_before = peak_energy_density(worst_model, x, alpha, ConcentrationMap(worst_model.mechanics().stiffness_curve), &w);
     EXPECT_EQ((P_worst - P_before).norm(), 0.0);
-    const Eigen::MatrixXd zeros = Eigen::MatrixXd::Zero(alpha.size(), 2);
+    const ShapeCover zeros = make_cover(Eigen::MatrixXd::Zero(alpha.size(), 2));
     EXPECT_EQ((peak_energy_density(model, x, alpha, K, &w, &zeros) - P_before).norm(), 0.0);
   }
 }
@@ -144,8 +179,8 @@ TEST(PeakByShape, AFaceOfTwoShapesReadsTheSmoothMaximum) {
   // through shape_factor and a face's mixture.
   const double bound = std::pow(2.0, 1 / kShapeNorm);
   for (const double a : {0.3, 0.5, 0.6}) {
-    const double k0 = K.shape_factor(0, false, a, nullptr, nullptr, nullptr);
-    const double k1 = K.shape_factor(1, false, a, nullptr, nullptr, nullptr);
+    const double k0 = K.shape_factor(0, false, a, nullptr, 0, nullptr, nullptr);
+    const double k1 = K.shape_factor(1, false, a, nullptr, 0, nullptr, nullptr);
     const double largest = std::max(k0, k1) - 1;
     // Through the peak rule: a flat face stretched in its plane, W_peak/W = K_m.
     const SurfaceMesh mesh = test::grid_rectangle(0.2, 0.2, 2, 2);
@@ -165,8 +200,8 @@ TEST(PeakByShape, AFaceOfTwoShapesReadsTheSmoothMaximum) {
     const Eigen::VectorXd alpha = Eigen::VectorXd::Constant(mesh.num_faces(), a);
     const Eigen::VectorXd W = energy_density(model, x, alpha);
     for (const double share : {0.2, 0.5, 0.8}) {
-      const Eigen::MatrixXd h = split_cover(alpha, Eigen::VectorXd::Constant(alpha.size(), share));
-      ASSERT_GE(h.minCoeff(), kConcentrationRamp);
+      const ShapeCover h = make_cover(split_cover(alpha, Eigen::VectorXd::Constant(alpha.size(), share)));
+      ASSERT_GE(h.covered.minCoeff(), kConcentrationRamp);
       const Eigen::VectorXd P = peak_energy_density(model, x, alpha, K, nullptr, &h);
       for (int t = 0; t < P.size(); ++t) {
         const double k = P[t] / W[t] - 1;
@@ -177,95 +212,161 @@ TEST(PeakByShape, AFaceOfTwoShapesReadsTheSmoothMaximum) {
   }
 }
 
-// Σ c_t W_peak_t by shape: its gradients in h, α and x against central differences, with faces of
-// one shape, of two, and of a shape inside its ramp (h < δ), with and without blend weights, for
-// the worst state's K and K by biaxiality.
-TEST(PeakByShape, VectorJacobianProductsMatchCentralDifferences) {
-  const TwoShapes shapes;
-  for (bool by_state : {false, true})
-    for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
-      SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
-      SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
-      test::CapFixture fx(74, bending, FillStiffness::Homogenised);
-      const ShellModel model = with_curve(fx, shapes.curve(by_state));
-      const ConcentrationMap K(model.mechanics().stiffness_curve);
-      const RowMatX3d x = fx.perturbed(75);
-      const Eigen::VectorXd alpha = varied_alpha(fx);
-      std::mt19937 rng(76);
-      std::uniform_real_distribution<double> u(0, 1);
-      std::normal_distribution<double> n;
-      Eigen::VectorXd share(alpha.size()), c(alpha.size()), w(alpha.size());
-      for (int t = 0; t < share.size(); ++t) {
-        const int kind = t % 4;  // shape 0 alone, shape 1 alone, both, shape 1 in its ramp
-        share[t] = kind == 0 ? 0.0 : kind == 1 ? 1.0 : kind == 2 ? u(rng) : 0.3 * kConcentrationRamp / std::max(1e-3, 1 - alpha[t]);
-        share[t] = std::min(share[t], 1.0);
-        c[t] = n(rng);
-        w[t] = t % 7 == 0 ? 0.0 : u(rng);
-      }
-      const Eigen::MatrixXd h = split_cover(alpha, share);
-      const Eigen::VectorXd* no_weight = nullptr;
-      for (const Eigen::VectorXd* weight : {no_weight, static_cast<const Eigen::VectorXd*>(&w)}) {
-        SCOPED_TRACE(weight ? "blend weights" : "no weights");
-        RowMatX3d dx;
-        Eigen::VectorXd da;
-        Eigen::MatrixXd dh;
-        peak_energy_density_vjp(model, x, alpha, K, weight, c, &dx, &da, &h, &dh);
-        ASSERT_EQ(dh.rows(), h.rows());
-        ASSERT_EQ(dh.cols(), 2);
-        EXPECT_GT(dh.norm(), 0.0);
-        const Eigen::Map<const Eigen::VectorXd> h_flat(h.data(), h.size());
-        const auto of_h = [&](const Eigen::VectorXd& v) {
-          const Eigen::MatrixXd hv = Eigen::Map<const Eigen::MatrixXd>(v.data(), h.rows(), h.cols());
-          return c.dot(peak_energy_density(model, x, alpha, K, weight, &hv));
-        };
-        const Eigen::VectorXd dh_flat = Eigen::Map<const Eigen::VectorXd>(dh.data(), dh.size());
-        const auto ch = test::check_gradient(of_h, h_flat, dh_flat, 1e-3);
-        EXPECT_LE(ch.best, 1e-6) << ch.table();
-        const auto of_alpha = [&](const Eigen::VectorXd& a) {
-          return c.dot(peak_energy_density(model, x, a, K, weight, &h));
-        };
-        const auto ca = test::check_gradient(of_alpha, alpha, da, 0.01);
-        EXPECT_LE(ca.best, 1e-6) << ca.table();
-        const auto of_positions = [&](const Eigen::VectorXd& xf) {
-          RowMatX3d y = x;
-          model.scatter_free(xf, y);
-          return c.dot(peak_energy_density(model, y, alpha, K, weight, &h));
-        };
-        const auto cx = test::check_gradient(of_positions, model.gather_free(x), model.gather_free(dx), 0.01);
-        EXPECT_LE(cx.best, 1e-6) << cx.table();
-      }
-    }
+/// The cover as one vector (covered, then corner, column-major) and back.
+Eigen::VectorXd flat(const ShapeCover& c) {
+  Eigen::VectorXd v(c.covered.size() + c.corner.size());
+  v << Eigen::Map<const Eigen::VectorXd>(c.covered.data(), c.covered.size()),
+      Eigen::Map<const Eigen::VectorXd>(c.corner.data(), c.corner.size());
+  return v;
+}
+ShapeCover unflat(const Eigen::VectorXd& v, const ShapeCover& like) {
+  ShapeCover c;
+  c.covered = Eigen::Map<const Eigen::MatrixXd>(v.data(), like.covered.rows(), like.covered.cols());
+  if (like.corner.size() > 0)
+    c.corner = Eigen::Map<const Eigen::MatrixXd>(v.data() + like.covered.size(), like.corner.rows(), like.corner.cols());
+  return c;
 }
 
-// The peak objective carries ∂S/∂h (ObjectiveTerms::d_covered) when it is given covered fractions
-// and the factors are by shape, and nothing otherwise.
-TEST(PeakByShape, ThePeakObjectiveCarriesItsCoveredFractionsGradient) {
-  const TwoShapes shapes;
+// Σ c_t W_peak_t by shape: its gradients in the cover, α and x against central differences, with
+// faces of one shape, of two, and of a shape inside its ramp (h < δ), with and without blend
+// weights, for the worst state's K and K by biaxiality, and with shape 1's factors by corner at
+// radii ε̄ between the nodes, on them and beyond the last.
+TEST(PeakByShape, VectorJacobianProductsMatchCentralDifferences) {
+  for (bool corners : {false, true})
+    for (bool by_state : {false, true})
+      for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
+        if (corners && !by_state) continue;  // tables by corner come with tables by biaxiality
+        SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
+        SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
+        SCOPED_TRACE(corners ? "K by corner" : "ε = 0");
+        TwoShapes shapes;
+        shapes.corners = corners;
+        test::CapFixture fx(74, bending, FillStiffness::Homogenised);
+        const ShellModel model = with_curve(fx, shapes.curve(by_state));
+        const ConcentrationMap K(model.mechanics().stiffness_curve);
+        const RowMatX3d x = fx.perturbed(75);
+        const Eigen::VectorXd alpha = varied_alpha(fx);
+        std::mt19937 rng(76);
+        std::uniform_real_distribution<double> u(0, 1);
+        std::normal_distribution<double> n;
+        Eigen::VectorXd share(alpha.size()), c(alpha.size()), w(alpha.size());
+        Eigen::MatrixXd epsilon(alpha.size(), 2);
+        for (int t = 0; t < share.size(); ++t) {
+          const int kind = t % 4;  // shape 0 alone, shape 1 alone, both, shape 1 in its ramp
+          share[t] = kind == 0 ? 0.0 : kind == 1 ? 1.0 : kind == 2 ? u(rng) : 0.3 * kConcentrationRamp / std::max(1e-3, 1 - alpha[t]);
+          share[t] = std::min(share[t], 1.0);
+          c[t] = n(rng);
+          w[t] = t % 7 == 0 ? 0.0 : u(rng);
+          epsilon(t, 0) = 1.2 * u(rng);
+          epsilon(t, 1) = 1.2 * u(rng);
+        }
+        const ShapeCover h = make_cover(split_cover(alpha, share), corners ? &epsilon : nullptr);
+        const Eigen::VectorXd* no_weight = nullptr;
+        for (const Eigen::VectorXd* weight : {no_weight, static_cast<const Eigen::VectorXd*>(&w)}) {
+          SCOPED_TRACE(weight ? "blend weights" : "no weights");
+          RowMatX3d dx;
+          Eigen::VectorXd da;
+          ShapeCover dh;
+          peak_energy_density_vjp(model, x, alpha, K, weight, c, &dx, &da, &h, &dh);
+          ASSERT_EQ(dh.covered.rows(), h.covered.rows());
+          ASSERT_EQ(dh.covered.cols(), 2);
+          ASSERT_EQ(dh.corner.size(), h.corner.size());
+          EXPECT_GT(dh.covered.norm(), 0.0);
+          if (corners) {
+            EXPECT_GT(dh.corner.col(1).norm(), 0.0);
+          }
+          const auto of_cover = [&](const Eigen::VectorXd& v) {
+            const ShapeCover hv = unflat(v, h);
+            return c.dot(peak_energy_density(model, x, alpha, K, weight, &hv));
+          };
+          const auto ch = test::check_gradient(of_cover, flat(h), flat(dh), 1e-3);
+          EXPECT_LE(ch.best, 1e-6) << ch.table();
+          const auto of_alpha = [&](const Eigen::VectorXd& a) {
+            return c.dot(peak_energy_density(model, x, a, K, weight, &h));
+          };
+          const auto ca = test::check_gradient(of_alpha, alpha, da, 0.01);
+          EXPECT_LE(ca.best, 1e-6) << ca.table();
+          const auto of_positions = [&](const Eigen::VectorXd& xf) {
+            RowMatX3d y = x;
+            model.scatter_free(xf, y);
+            return c.dot(peak_energy_density(model, y, alpha, K, weight, &h));
+          };
+          const auto cx = test::check_gradient(of_positions, model.gather_free(x), model.gather_free(dx), 0.01);
+          EXPECT_LE(cx.best, 1e-6) << cx.table();
+        }
+      }
+}
+
+// K by corner: at the nodes the tables themselves (ε = 0 the tables by biaxiality), linear and
+// continuous between them, held beyond ε = 1; a shape without corners the same at every ε; and a
+// design of one shape with corners reads its factors by shape.
+TEST(PeakByShape, FactorsByCornerInterpolateTheNodes) {
+  TwoShapes shapes;
+  shapes.corners = true;
+  const FillStiffnessCurve curve = shapes.curve(true);
+  const ConcentrationMap K(curve);
+  const double a = curve.alpha[2], rho = biaxiality_node(3);
+  for (int part = 0; part < 2; ++part) {
+    const auto& table = (part == 0 ? curve.shape_concentration[1].membrane_by_corner : curve.shape_concentration[1].bending_by_corner)[2];
+    for (int node = 0; node < kCornerNodes; ++node)
+      EXPECT_NEAR(K.shape_factor(1, part == 1, a, &rho, corner_node(node), nullptr, nullptr),
+                  table[size_t(node * kBiaxialityNodes + 3)], 1e-12)
+          << "node " << node;
+    EXPECT_EQ(K.shape_factor(1, part == 1, a, &rho, 1.7, nullptr, nullptr), K.shape_factor(1, part == 1, a, &rho, 1.0, nullptr, nullptr));
+    for (const double e : {0.0, 0.3, 0.9, 1.4})
+      EXPECT_NEAR(K.shape_factor(0, part == 1, a, &rho, e, nullptr, nullptr), K.shape_factor(0, part == 1, a, &rho, 0, nullptr, nullptr), 1e-12);
+    // Continuous across a node; the slope in ε against central differences between nodes.
+    EXPECT_NEAR(K.shape_factor(1, part == 1, a, &rho, corner_node(3) - 1e-12, nullptr, nullptr),
+                K.shape_factor(1, part == 1, a, &rho, corner_node(3) + 1e-12, nullptr, nullptr), 1e-9);
+    for (const double e : {0.2, 0.47, 0.93}) {
+      double slope = 0;
+      K.shape_factor(1, part == 1, a, &rho, e, nullptr, nullptr, &slope);
+      const double d = 1e-6;
+      const double fd = (K.shape_factor(1, part == 1, a, &rho, e + d, nullptr, nullptr) -
+                         K.shape_factor(1, part == 1, a, &rho, e - d, nullptr, nullptr)) / (2 * d);
+      EXPECT_NEAR(slope, fd, 1e-6 * std::max(1.0, std::abs(fd))) << "ε " << e;
+    }
+  }
+  // One shape with corners: by shape; one without (the circle alone): not.
+  FillStiffnessCurve one = curve;
+  one.shape_concentration[0] = {};
+  EXPECT_TRUE(ConcentrationMap(one).by_shape());
+  one = curve;
+  one.shape_concentration[1] = {};
+  EXPECT_FALSE(ConcentrationMap(one).by_shape());
+}
+
+// The peak objective carries ∂S/∂(cover) (ObjectiveTerms::d_cover) when it is given a cover and
+// the factors are by shape, and nothing otherwise.
+TEST(PeakByShape, ThePeakObjectiveCarriesItsCoverGradient) {
+  TwoShapes shapes;
+  shapes.corners = true;
   test::CapFixture fx(77, BendingModel::ShapeOperator, FillStiffness::Homogenised);
   const ShellModel model = with_curve(fx, shapes.curve(true));
   const ConcentrationMap K(model.mechanics().stiffness_curve);
   const RowMatX3d x = fx.perturbed(78);
   const Eigen::VectorXd alpha = varied_alpha(fx);
   Eigen::VectorXd share(alpha.size());
-  for (int t = 0; t < share.size(); ++t) share[t] = (t % 5) / 4.0;
-  const Eigen::MatrixXd h = split_cover(alpha, share);
+  Eigen::MatrixXd epsilon(alpha.size(), 2);
+  for (int t = 0; t < share.size(); ++t) share[t] = (t % 5) / 4.0, epsilon(t, 0) = 0.1, epsilon(t, 1) = 0.05 + 0.1 * (t % 7);
+  const ShapeCover h = make_cover(split_cover(alpha, share), &epsilon);
   const Eigen::VectorXd W = energy_density(model, x, alpha);
   const double beta = 0.5 * W.maxCoeff(), w_ref = W.maxCoeff();
   const PeakMeasure peak{&K, nullptr, &h};
   const ObjectiveTerms t = energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &peak);
-  ASSERT_EQ(t.d_covered.rows(), alpha.size());
-  const Eigen::Map<const Eigen::VectorXd> h_flat(h.data(), h.size());
-  const auto of_h = [&](const Eigen::VectorXd& v) {
-    const Eigen::MatrixXd hv = Eigen::Map<const Eigen::MatrixXd>(v.data(), h.rows(), h.cols());
+  ASSERT_EQ(t.d_cover.covered.rows(), alpha.size());
+  ASSERT_EQ(t.d_cover.corner.rows(), alpha.size());
+  const auto of_cover = [&](const Eigen::VectorXd& v) {
+    const ShapeCover hv = unflat(v, h);
     const PeakMeasure p{&K, nullptr, &hv};
     return energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &p).value;
   };
-  const Eigen::VectorXd g = Eigen::Map<const Eigen::VectorXd>(t.d_covered.data(), t.d_covered.size());
+  const Eigen::VectorXd g = flat(t.d_cover);
   ASSERT_GT(g.norm(), 0.0);
-  const auto ch = test::check_gradient(of_h, h_flat, g, 1e-3);
+  const auto ch = test::check_gradient(of_cover, flat(h), g, 1e-3);
   EXPECT_LE(ch.best, 1e-6) << ch.table();
   const PeakMeasure without{&K, nullptr, nullptr};
-  EXPECT_EQ(energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &without).d_covered.size(), 0);
+  EXPECT_TRUE(energy_density_objective(model, x, alpha, beta, w_ref, nullptr, &without).d_cover.empty());
   // summarize_equilibrium's W_peak reads the same rule.
   const EquilibriumSummary s = summarize_equilibrium(model, x, alpha, nullptr, &h);
   EXPECT_EQ((s.peak_energy_density - peak_energy_density(model, x, alpha, K, nullptr, &h)).norm(), 0.0);
@@ -283,11 +384,17 @@ TEST(PeakByShape, MalformedFactorsByShapeAreRejected) {
   c.shape_concentration[0].membrane_by_biaxiality.clear();
   c.shape_concentration[0].bending_by_biaxiality.clear();
   EXPECT_THROW(ConcentrationMap{c}, InputError);
-  // One shape with its own factors is not "by shape": the worst is that shape's.
+  // One shape with its own factors (and no corners) is not "by shape": the worst is that shape's.
   c = shapes.curve(true);
   c.shape_concentration[1] = {};
   EXPECT_FALSE(ConcentrationMap(c).by_shape());
   EXPECT_FALSE(concentration_by_shape(c));
+  // Tables by corner of the wrong size.
+  TwoShapes cornered;
+  cornered.corners = true;
+  c = cornered.curve(true);
+  c.shape_concentration[1].membrane_by_corner[0].pop_back();
+  EXPECT_THROW(ConcentrationMap{c}, InputError);
 }
 
 }  // namespace

@@ -59,7 +59,12 @@ void check_joint_gradient(const char* objective, unsigned seed, const json& mech
   }
   shell.set_stencils(layout_params(layout));
   // Several shapes: W_peak reads each shape's factors by the faces' covered fractions.
-  EXPECT_EQ(shell.covered() != nullptr, ctx.shapes().size() > 1);
+  EXPECT_EQ(shell.cover() != nullptr, ctx.shapes().size() > 1);
+  // With them the corner rule at the scene's minimum feature (the flowers' notches are corners).
+  if (shell.cover()) {
+    EXPECT_GT(scene.mechanics.corner_radius, 0);
+    EXPECT_EQ(shell.cover()->corner.rows(), meshes.sim.num_faces());
+  }
   shell.equilibrate();
   const EquilibriumSummary uncut_like = shell.summary();
   const double w_ref = uncut_like.W_max;
