@@ -183,6 +183,7 @@ void check_ply_structure(std::string_view content, const std::string& what) {
   // malformed headers (e.g. a bare "property" line), so nothing questionable may reach it.
   std::vector<PlyElement> elements;
   std::optional<PlyFormat> format;
+  int format_line = 0;
   std::size_t pos = 0;
   bool header_done = false;
   int line_number = 0;
@@ -219,6 +220,10 @@ void check_ply_structure(std::string_view content, const std::string& what) {
     if (t[0] == "comment" || t[0] == "obj_info") continue;
     if (t[0] == "format") {
       if (t.size() != 3) bad_line("expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
+      // One format: with two, this check and assimp could read the data by different ones (binary
+      // then ascii crashed assimp, SEGV; ascii then binary leaked: fuzz-regressions/mesh_ply).
+      if (format) bad_line(fmt::format("a second format line (the first is line {})", format_line));
+      format_line = line_number;
       if (t[1] == "ascii") format = PlyFormat::kAscii;
       else if (t[1] == "binary_little_endian") format = PlyFormat::kBinaryLittle;
       else if (t[1] == "binary_big_endian") format = PlyFormat::kBinaryBig;

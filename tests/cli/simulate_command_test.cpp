@@ -133,6 +133,53 @@ TEST(CliSimulate, StencilsOfADesignReproduceItsEquilibrium) {
   fs::remove_all(dir);
 }
 
+TEST(CliSimulate, FactorsByShapeAndCornerAreReportedAndDesignAndSimulateAgree) {
+  // A plate perforated by stars and circles (the pattern phase): report.json carries each shape's
+  // own factors, the corner rule's nodes and radius (the scene's minimum feature), and W_peak —
+  // read by shape and by corner from the stencils' cover — is the same number in the design's
+  // report and in a simulation of its stencils.
+  const fs::path dir = test::temp_dir("simulate_by_shape");
+  nlohmann::json scene = plate_scene();
+  scene["mechanics"]["stiffness"] = "homogenised";
+  scene["stencils"] = nlohmann::json::array({{{"name", "star"}, {"kind", "star"}}, {{"name", "circle"}, {"kind", "circle"}}});
+  scene["fabrication"]["min_feature"] = 0.0005;
+  const fs::path scene_file = dir / "plate_stars.json";
+  std::ofstream(scene_file) << scene.dump(2);
+  const auto d = run_cutwork("design " + scene_file.string() + " --phases pattern --device cpu --no-render --out " +
+                             (dir / "design").string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const auto design = read_json(dir / "design" / "report.json");
+  EXPECT_EQ(design["mechanics"]["corner_radius"], 0.0005);
+  const auto& curve = design["mechanics"]["stiffness_curve"];
+  ASSERT_EQ(curve["corner_nodes"].size(), size_t(kCornerNodes));
+  EXPECT_EQ(curve["corner_nodes"][0], 0.0);
+  EXPECT_EQ(curve["corner_nodes"][kCornerNodes - 1], 1.0);
+  const size_t n = curve["alpha"].size();
+  for (const char* shape : {"star", "circle"}) {
+    SCOPED_TRACE(shape);
+    ASSERT_TRUE(curve["concentration_by_shape"].contains(shape)) << curve["concentration_by_shape"];
+    const auto& k = curve["concentration_by_shape"][shape];
+    ASSERT_EQ(k["membrane_concentration"].size(), n);
+    ASSERT_EQ(k["membrane_concentration_by_corner"].size(), n);
+    for (size_t a = 0; a < n; ++a) {
+      // Each shape's factor at most the worst shape's; node 0 of the corner table is the table by biaxiality.
+      EXPECT_LE(k["membrane_concentration"][a].get<double>(), curve["membrane_concentration"][a].get<double>());
+      ASSERT_EQ(k["membrane_concentration_by_corner"][a].size(), size_t(kCornerNodes * kBiaxialityNodes));
+      for (int j = 0; j < kBiaxialityNodes; ++j)
+        EXPECT_EQ(k["membrane_concentration_by_corner"][a][size_t(j)], k["membrane_concentration_by_biaxiality"][a][size_t(j)]);
+    }
+  }
+  const std::string stencils = (dir / "design" / "stencils.json").string();
+  const auto h = run_cutwork("simulate " + scene_file.string() + " --device cpu --no-render --stencils " + stencils +
+                             " --out " + (dir / "simulate").string());
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  const auto sim = read_json(dir / "simulate" / "report.json");
+  const double wp_design = design["structure"]["W_peak_max_final"], wp_sim = sim["equilibrium"]["W_peak_max"];
+  EXPECT_NEAR(wp_sim, wp_design, 1e-6 * wp_design);
+  EXPECT_GT(wp_sim, sim["equilibrium"]["W_max"].get<double>());
+  fs::remove_all(dir);
+}
+
 TEST(CliSimulate, HomogenisedStiffnessSoftensThePerforatedShellAndIsReported) {
   // The plate's pattern design simulated under both fill stiffness rules: the homogenised rule
   // (perforated material is softer than its fill ratio says) gives a larger compliance; the design

@@ -429,6 +429,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "PLY header line 5 has a control byte 0x00 at column 16 (binary data in the header, or "
                 "not a PLY file)"},
         BadFile{"missing_y_property.ply", "the PLY vertex element has no 'y' property (positions are x, y and z)"},
+        // Two format lines (binary, then ascii): this check read the data as ASCII, assimp as binary
+        // and crashed (SEGV, found by fuzzing; ascii then binary leaked).
+        BadFile{"two_format_lines.ply",
+                "PLY header line 3 'format ascii 1.0': a second format line (the first is line 2)"},
         BadFile{"comment_only.off", "no OFF header (the file holds only blank or comment lines)"},
         BadFile{"out_of_range.off", "face 0 index 99 out of range [0,3)"},
         BadFile{"negative_index.off", "face 0 index -1 out of range [0,3)"},
