@@ -21,19 +21,7 @@
 namespace cutwork::solvers {
 namespace {
 
-/// K(ρ) tables from worst-state samples (as peak_energy_density_test's): 1 + (K − 1)(0.8 + 0.1ρ − 0.15ρ²).
-std::vector<std::vector<double>> biaxiality_table(const std::vector<double>& worst) {
-  std::vector<std::vector<double>> t;
-  for (const double k : worst) {
-    std::vector<double> row;
-    for (int j = 0; j < kBiaxialityNodes; ++j) {
-      const double r = biaxiality_node(j);
-      row.push_back(1 + (k - 1) * (0.8 + 0.1 * r - 0.15 * r * r));
-    }
-    t.push_back(row);
-  }
-  return t;
-}
+using test::test_biaxiality_table;
 
 /// Two shapes on the test curve's samples (α = 0.3 0.45 0.6 0.75 0.9 1): a mild one (circle-like)
 /// and a sharp one whose factors are larger at some samples and smaller at others (so that neither
@@ -55,14 +43,14 @@ struct TwoShapes {
     c.membrane_concentration = wm;
     c.bending_concentration = wb;
     if (by_state) {
-      c.membrane_concentration_by_biaxiality = biaxiality_table(wm);
-      c.bending_concentration_by_biaxiality = biaxiality_table(wb);
+      c.membrane_concentration_by_biaxiality = test_biaxiality_table(wm);
+      c.bending_concentration_by_biaxiality = test_biaxiality_table(wb);
     }
     if (which < 0)
       for (int s = 0; s < 2; ++s) {
         FillStiffnessCurve::ShapeConcentration k{km[s], kb[s], {}, {}, {}, {}};
         if (by_state) {
-          k.membrane_by_biaxiality = biaxiality_table(km[s]), k.bending_by_biaxiality = biaxiality_table(kb[s]);
+          k.membrane_by_biaxiality = test_biaxiality_table(km[s]), k.bending_by_biaxiality = test_biaxiality_table(kb[s]);
           // Shape 1 has corners: its factors fall with the corner rule's radius ε, towards half
           // their excess at ε = 1; shape 0 (a circle) has the same at every node.
           if (corners) {

@@ -38,23 +38,10 @@ LoadCase cantilever(const SurfaceMesh& mesh, int axis) {
   return lc;
 }
 
-/// Tables of K by biaxiality made from the worst states' samples: K(ρ) = 1 + (K − 1)(0.8 + 0.1ρ −
-/// 0.15ρ²), lowest at pure shear, not symmetric in ρ, and ≥ 1.
+/// Tables of K by biaxiality made from the worst states' samples (test::test_biaxiality_table).
 FillStiffnessCurve with_biaxiality(FillStiffnessCurve c) {
-  const auto table = [](const std::vector<double>& worst) {
-    std::vector<std::vector<double>> t;
-    for (const double k : worst) {
-      std::vector<double> row;
-      for (int j = 0; j < kBiaxialityNodes; ++j) {
-        const double r = biaxiality_node(j);
-        row.push_back(1 + (k - 1) * (0.8 + 0.1 * r - 0.15 * r * r));
-      }
-      t.push_back(row);
-    }
-    return t;
-  };
-  c.membrane_concentration_by_biaxiality = table(c.membrane_concentration);
-  c.bending_concentration_by_biaxiality = table(c.bending_concentration);
+  c.membrane_concentration_by_biaxiality = test::test_biaxiality_table(c.membrane_concentration);
+  c.bending_concentration_by_biaxiality = test::test_biaxiality_table(c.bending_concentration);
   return c;
 }
 

@@ -52,6 +52,21 @@ inline FillStiffnessCurve test_square_stiffness_curve() {
   return c;
 }
 
+/// Tables of K by biaxiality (rows per sample, kBiaxialityNodes each) made from worst-state samples:
+/// K(ρ) = 1 + (K − 1)(0.8 + 0.1ρ − 0.15ρ²), lowest at pure shear, not symmetric in ρ, and ≥ 1.
+inline std::vector<std::vector<double>> test_biaxiality_table(const std::vector<double>& worst) {
+  std::vector<std::vector<double>> t;
+  for (const double k : worst) {
+    std::vector<double> row;
+    for (int j = 0; j < kBiaxialityNodes; ++j) {
+      const double r = biaxiality_node(j);
+      row.push_back(1 + (k - 1) * (0.8 + 0.1 * r - 0.15 * r * r));
+    }
+    t.push_back(row);
+  }
+  return t;
+}
+
 struct CapFixture {
   SurfaceMesh mesh = test::cap(0.5, 0.4, 8, 0.05);
   LoadCase lc;
