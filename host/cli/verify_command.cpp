@@ -45,6 +45,7 @@ struct VerifyOptions {
   int max_faces = 800'000;
   int grading_depth = 2;
   double elements_across = 3;
+  double tool_radius = -1;    ///< m; < 0: the scene's fabrication.tool_radius
   int threads = 0;
   bool quiet = false;
 };
@@ -217,6 +218,7 @@ void run_verify(const VerifyOptions& opts) {
   co.max_faces = opts.max_faces;
   co.grading_depth = opts.grading_depth;
   co.elements_across = opts.elements_across;
+  co.tool_radius = opts.tool_radius >= 0 ? opts.tool_radius : loaded.scene.fabrication.tool_radius;
   sw.restart();
   const solvers::ConformingVerification v =
       solvers::verify_conforming(loaded.scene, meshes, loaded.load_case, ctx, sf.stencils, co);
@@ -235,7 +237,15 @@ void run_verify(const VerifyOptions& opts) {
                        {"zoom_submodel", co.zoom_submodel},
                        {"max_faces", co.max_faces},
                        {"grading_depth", co.grading_depth},
-                       {"elements_across", co.elements_across}};
+                       {"elements_across", co.elements_across},
+                       {"tool_radius", v.tool_radius}};
+  report["tool"] = {{"radius", v.tool_radius},
+                    {"rounded", v.tool_rounded},
+                    {"too_small", v.tool_too_small},
+                    {"split", v.tool_split},
+                    {"rule", "the conforming outline is each stencil as a cutter of this radius cuts it: the union of "
+                             "the discs of the radius inside it (corners turning into the material become arcs of the "
+                             "radius; stencils it does not fit in are cut as drawn); 0: as drawn"}};
   report["coarse"] = run_json(v.coarse);
   json levels = json::array();
   for (const auto& q : v.levels) levels.push_back(level_json(q));
@@ -328,7 +338,7 @@ void run_verify(const VerifyOptions& opts) {
     const Vec3 peak_position = zoomed ? v.zoom.steps.back().position : v.levels.back().rim_peak_position;
     if (std::isfinite(v.W_peak_ratio))
       say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}{}), conforming "
-                           "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}), extrapolated {:.4g} ± {:.2g}; "
+                           "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}{}), extrapolated {:.4g} ± {:.2g}; "
                            "ratio {:.4f} (extrapolated {:.4f}){}",
                            v.coarse.W_peak_max, v.coarse.W_max,
                            std::isfinite(v.ligaments.W_max)
@@ -346,6 +356,9 @@ void run_verify(const VerifyOptions& opts) {
                                                                   v.zoom.steps.back().rim_edge_length)
                                                     : std::string("level"))
                                : std::string("one level: convergence unknown"),
+                           v.tool_radius > 0 ? fmt::format("; outlines as a tool of radius {:.3g} m cuts them, {} rounded",
+                                                           v.tool_radius, v.tool_rounded)
+                                             : std::string(),
                            v.peak_extrapolated, v.peak_error_bar, v.W_peak_ratio, v.W_peak_ratio_extrapolated,
                            v.W_estimate != v.coarse.W_peak_max
                                ? fmt::format("; max(W_peak, W_lig) / conforming {:.4f} (extrapolated {:.4f})",
@@ -395,7 +408,7 @@ void add_verify_command(CLI::App& app) {
                   "peak (within 2 of the finest level's edge lengths) and solve again (a submodel of the finest level "
                   "about them, its border held at that level's solution), so that the conforming peak is read where "
                   "the rims resolve it; its change over the last step is reported (0: the levels' rim peaks only)")
-      ->check(CLI::Range(0, 4))
+      ->check(CLI::Range(0, 6))
       ->capture_default_str();
   cmd->add_flag("--zoom-whole", opts->zoom_whole,
                 "re-solve the whole shell on each peak zoom step (by default a submodel of the finest level about "
@@ -414,6 +427,13 @@ void add_verify_command(CLI::App& app) {
                   "triangles the grading puts across the narrowest ligament and a hole's diameter")
       ->check(CLI::Range(1.0, 16.0))
       ->capture_default_str();
+  cmd->add_option("--tool-radius", opts->tool_radius,
+                  "radius (m) of the cutter the conforming outline is cut with: each stencil becomes the union of the "
+                  "discs of this radius inside it, so the corners that turn into the material (a star's tips) are "
+                  "rounded as a part cut with that tool is, and the rim peak is read on them (default: the scene's "
+                  "fabrication.tool_radius; 0: the outlines as drawn, the rim within fabrication.min_feature of their "
+                  "sharp corners left out)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();

@@ -411,6 +411,7 @@ FabricationSettings parse_fabrication_section(JsonObjectReader& root) {
   JsonObjectReader f = root.object("fabrication");
   FabricationSettings fabrication;
   fabrication.min_feature = f.number("min_feature", FabricationSettings{}.min_feature, 0, 10);
+  fabrication.tool_radius = f.number("tool_radius", FabricationSettings{}.tool_radius, 0, 1);
   f.finish();
   return fabrication;
 }
@@ -524,7 +525,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                     {"max_rounds", st.max_rounds},
                     {"fill_holes", st.fill_holes},
                     {"max_rotation", st.max_rotation}};
-  j["fabrication"] = {{"min_feature", s.fabrication.min_feature}};
+  j["fabrication"] = {{"min_feature", s.fabrication.min_feature}, {"tool_radius", s.fabrication.tool_radius}};
   return j;
 }
 
@@ -901,9 +902,21 @@ std::vector<int> support_outline_edges(const SurfaceMesh& mesh, const std::vecto
   return out;
 }
 
-SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed) {
+SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& fixed, const std::vector<bool>* outer) {
   const std::vector<bool> face_fixed = area_support_faces(mesh, fixed, "support_extent");
+  if (outer && outer->size() != fixed.size())
+    throw InputError("support_extent: " + std::to_string(outer->size()) + " outer-boundary flags for " +
+                     std::to_string(fixed.size()) + " vertices");
   const std::vector<bool>& boundary = mesh.is_boundary_vertex();
+  // With `outer`: the vertices of the boundary loops with no vertex on the outer boundary (the rims
+  // of holes inside the surface).
+  std::vector<bool> inner_rim(fixed.size(), false);
+  if (outer)
+    for (const std::vector<int>& loop : mesh.boundary_loops()) {
+      const bool touches = std::any_of(loop.begin(), loop.end(), [&](int v) { return (*outer)[std::size_t(v)]; });
+      if (!touches)
+        for (int v : loop) inner_rim[std::size_t(v)] = true;
+    }
   SupportExtent e;
   for (int f = 0; f < mesh.num_faces(); ++f)
     if (face_fixed[std::size_t(f)]) e.area += mesh.face_areas()[f];
@@ -918,7 +931,15 @@ SupportExtent support_extent(const SurfaceMesh& mesh, const std::vector<bool>& f
     // corner triangle's third edge too).
     const int f0 = mesh.edge_faces()(k, 0), f1 = mesh.edge_faces()(k, 1);
     const bool chord = boundary[std::size_t(a)] && boundary[std::size_t(b)];
-    const bool line = f1 < 0 || (!chord && !face_fixed[std::size_t(f0)] && !face_fixed[std::size_t(f1)]);
+    // With `outer`, the rim of a hole inside an area support is the area's own outline, not a line.
+    // (Its face's three vertices fixed: an ear of the rim, all three on it, is in the area too.)
+    const bool rim_in_area = f1 < 0 && inner_rim[std::size_t(a)] && [&] {
+      for (int c = 0; c < 3; ++c)
+        if (!fixed[std::size_t(mesh.faces()(f0, c))]) return false;
+      return true;
+    }();
+    const bool line =
+        (f1 < 0 && !rim_in_area) || (f1 >= 0 && !chord && !face_fixed[std::size_t(f0)] && !face_fixed[std::size_t(f1)]);
     if (line) e.length += (mesh.vertices().row(a) - mesh.vertices().row(b)).norm();
   }
   for (std::size_t v = 0; v < fixed.size(); ++v)

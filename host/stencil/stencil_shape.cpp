@@ -123,6 +123,21 @@ double segment_distance(const Vec2& a, const Vec2& b, const Vec2& p) {
   return (a + t * e - p).norm();
 }
 
+/// A shape's area, perimeter and inner radius from its polygon (in the reference frame).
+void measure_shape(StencilShape& s) {
+  const size_t n = s.polygon.size();
+  s.area = signed_area(s.polygon);
+  s.perimeter = 0;
+  for (size_t i = 0; i < n; ++i) s.perimeter += (s.polygon[(i + 1) % n] - s.polygon[i]).norm();
+  s.inner_radius = 0;
+  if (point_in_polygon(s.polygon, Vec2::Zero())) {
+    double d = 1;
+    for (size_t i = 0; i < n; ++i)
+      d = std::min(d, segment_distance(s.polygon[i], s.polygon[(i + 1) % n], Vec2::Zero()));
+    s.inner_radius = d * (1 - 1e-12);  // conservative: "inside the disk" must imply "inside"
+  }
+}
+
 /// Validation and normalisation shared by built-in and user polygons.
 StencilShape finalize(const std::string& name, const std::string& kind, std::vector<Vec2> pts) {
   const std::string who = "stencil shape '" + name + "'";
@@ -175,14 +190,7 @@ StencilShape finalize(const std::string& name, const std::string& kind, std::vec
   for (const Vec2& p : s.polygon) rmax = std::max(rmax, p.norm());
   if (rmax > 1)
     for (Vec2& p : s.polygon) p /= rmax;
-  s.area = signed_area(s.polygon);
-  for (size_t i = 0; i < n; ++i) s.perimeter += (s.polygon[(i + 1) % n] - s.polygon[i]).norm();
-  if (point_in_polygon(s.polygon, Vec2::Zero())) {
-    double d = 1;
-    for (size_t i = 0; i < n; ++i)
-      d = std::min(d, segment_distance(s.polygon[i], s.polygon[(i + 1) % n], Vec2::Zero()));
-    s.inner_radius = d * (1 - 1e-12);  // conservative: "inside the disk" must imply "inside"
-  }
+  measure_shape(s);
   return s;
 }
 
@@ -383,6 +391,24 @@ StencilShape make_builtin_stencil(const std::string& kind,
 
 StencilShape make_polygon_stencil(const std::string& name, const std::vector<Vec2>& pts) {
   return finalize(name, "polygon", pts);
+}
+
+StencilShape shape_in_reference_frame(const std::string& name, const std::string& kind, std::vector<Vec2> polygon) {
+  const std::string who = "stencil shape '" + name + "'";
+  if (polygon.size() < 3 || polygon.size() > size_t(kMaxStencilPolygonVertices))
+    throw InputError(who + ": polygon has " + std::to_string(polygon.size()) + " points (3 to " +
+                     std::to_string(kMaxStencilPolygonVertices) + " are accepted)");
+  for (const Vec2& p : polygon)
+    if (!(p.norm() <= 1 + 1e-12)) throw InputError(who + ": polygon leaves the unit circle of its frame");
+  StencilShape s;
+  s.name = name;
+  s.kind = kind;
+  s.polygon = std::move(polygon);
+  for (Vec2& p : s.polygon)
+    if (p.norm() > 1) p /= p.norm();
+  measure_shape(s);
+  if (!(s.area > 0)) throw InputError(who + ": polygon is not counter-clockwise or has zero area");
+  return s;
 }
 
 int StencilLibrary::add(StencilShape shape) {

@@ -73,6 +73,13 @@ StencilShape make_builtin_stencil(const std::string& kind,
 /// enclosing circle is the origin, and scaled so that circle's radius is 1.
 StencilShape make_polygon_stencil(const std::string& name, const std::vector<Vec2>& pts);
 
+/// A shape whose polygon is given in its reference frame as it is (counter-clockwise, simple, every
+/// |p| ≤ 1): not moved or rescaled, so it may lie strictly inside the unit circle — a stencil's
+/// shape cut down about the same centre and scale (stencil_opening.h). Area, perimeter and inner
+/// radius are measured; simplicity is the caller's. Throws InputError for fewer than 3 or more than
+/// kMaxStencilPolygonVertices points, a point outside the unit circle or a clockwise polygon.
+StencilShape shape_in_reference_frame(const std::string& name, const std::string& kind, std::vector<Vec2> polygon);
+
 /// The shapes of one design; a shape's index is its type id.
 class StencilLibrary {
  public:

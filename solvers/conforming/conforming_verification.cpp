@@ -20,6 +20,7 @@
 #include "host/core/error.h"
 #include "host/core/timer.h"
 #include "host/cut/cut_surface.h"
+#include "host/stencil/stencil_opening.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
 #include "host/mesh/mesh_mapping.h"
@@ -262,8 +263,8 @@ LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scen
     outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
     lc = resolve_load_case(scene, mesh, &outer, &load_case);
   }
-  q.fixed_extent = support_extent(mesh, lc.fixed);
-  q.clamped_extent = support_extent(mesh, lc.clamped);
+  q.fixed_extent = support_extent(mesh, lc.fixed, &outer);
+  q.clamped_extent = support_extent(mesh, lc.clamped, &outer);
   const ShellModel model(mesh, scene.material, lc, mechanics);
   RowMatX3d start;
   if (previous.mesh && previous.u && previous.mesh->num_faces() > 0)
@@ -345,8 +346,10 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   if (!(options.elements_across >= 1) || !(options.elements_across <= 16))
     throw InputError(fmt::format("conforming elements across a ligament {} out of range [1, 16]", options.elements_across));
   if (options.max_faces < 1) throw InputError(fmt::format("conforming face budget {} is not positive", options.max_faces));
-  if (options.peak_zoom < 0 || options.peak_zoom > 4)
-    throw InputError(fmt::format("peak zoom {} out of range [0, 4]", options.peak_zoom));
+  if (options.peak_zoom < 0 || options.peak_zoom > 6)
+    throw InputError(fmt::format("peak zoom {} out of range [0, 6]", options.peak_zoom));
+  if (!(options.tool_radius >= 0) || !std::isfinite(options.tool_radius))
+    throw InputError(fmt::format("tool radius {} m: expected a finite radius of at least 0", options.tool_radius));
   if (options.min_levels < 2 || options.min_levels > 6)
     throw InputError(fmt::format("conforming minimum levels {} out of range [2, 6]", options.min_levels));
   ConformingVerification v;
@@ -385,7 +388,25 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   // finest is kept for the comparison.
   v.stop = "levels";
   Stopwatch cutting;
-  const CutSurface cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), stencils);
+  // The outline as the tool cuts it (stencil_opening.h): one shape per stencil, opened by the
+  // tool's radius over the stencil's scale.
+  v.tool_radius = options.tool_radius;
+  const ToolCutStencils tool_cut =
+      v.tool_radius > 0 ? tool_cut_stencils(ctx.shapes(), stencils, v.tool_radius) : ToolCutStencils{};
+  v.tool_rounded = tool_cut.rounded;
+  v.tool_too_small = tool_cut.too_small;
+  v.tool_split = tool_cut.split;
+  if (tool_cut.too_small > 0)
+    v.notes.push_back(fmt::format("{} stencil(s) too small for the tool of radius {:.3g} m: cut as drawn, their sharp "
+                                  "corners under the corner rule",
+                                  tool_cut.too_small, v.tool_radius));
+  if (tool_cut.split > 0)
+    v.notes.push_back(fmt::format("{} stencil(s) with a neck narrower than the tool's diameter {:.3g} m: the tool cuts "
+                                  "them in pieces, the largest is cut",
+                                  tool_cut.split, 2 * v.tool_radius));
+  const CutSurface cut = v.tool_radius > 0
+                             ? cut_stencils(ctx.surface().bvh(), tool_cut.shapes, ctx.surface().field(), tool_cut.stencils)
+                             : cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), stencils);
   if (cut.faces.rows() == 0) throw InputError("the stencils cut the whole surface away: nothing to verify");
   // The narrow ligaments W_peak cannot see (ligament_peak.h), from the coarse run's W_peak.
   if (coarse_W_peak.size() == meshes.sim.num_faces()) {
@@ -400,9 +421,11 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   RimRecoveryOptions rim_options;
   // Turns within a quarter of the minimum feature count as one corner: 30° within 0.25 g is a
   // radius below about g/2, sharper than the printed part can be (the bowl's flower petals end in
-  // tips of 0.39 mm radius, turning 15° per 0.1 mm segment).
-  const std::vector<Vec3> corners =
-      singular_corners(cut.vertices, cut.faces, rim_options.corner_angle, 0.25 * scene.fabrication.min_feature);
+  // tips of 0.39 mm radius, turning 15° per 0.1 mm segment). Cut by a tool of radius r, the
+  // outline's rounds are r or larger, written at 5° per segment: the window is then r/4 (14° of
+  // such a round and one segment's 5°, under 30°), so that only corners the tool left sharp count.
+  const double corner_window = v.tool_radius > 0 ? 0.25 * v.tool_radius : 0.25 * scene.fabrication.min_feature;
+  const std::vector<Vec3> corners = singular_corners(cut.vertices, cut.faces, rim_options.corner_angle, corner_window);
   rim_options.corner_radius = scene.fabrication.min_feature;
   rim_options.support_radius = options.edge_length;
   rim_options.corners = &corners;

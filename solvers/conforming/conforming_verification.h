@@ -105,7 +105,7 @@ struct ConformingOptions {
   int grading_depth = 0;
   double elements_across = 3;
   NewtonSettings newton;    ///< for both solves (log lines are collected in the result's notes)
-  /// Zoom steps about the rim peak after the last level (PeakZoom; 0: none); in [0, 4].
+  /// Zoom steps about the rim peak after the last level (PeakZoom; 0: none); in [0, 6].
   int peak_zoom = 0;
   /// Each zoom step re-solves a submodel of the finest level about the centres, its collar held at
   /// the level's solution (PeakZoom), instead of the whole shell.
@@ -115,6 +115,13 @@ struct ConformingOptions {
   /// same equilibrium to Newton's tolerance in fewer iterations (a guess Newton fails from is
   /// dropped for a start from rest, EquilibriumSolver::start_from).
   bool warm_start = true;
+  /// The cutter's radius r (m) the conforming outline is cut with (host/stencil/stencil_opening.h):
+  /// each stencil becomes the union of the discs of radius r inside it, so its corners that turn
+  /// into the material (a star's tips) are arcs of radius r, as a part cut by such a tool has them,
+  /// and the rim peak is read on those arcs instead of being left out about a sharp corner. The
+  /// corner window is then r/4 (only corners the tool left sharp count). 0: the outlines as drawn,
+  /// the rim within the minimum feature of their sharp corners left out.
+  double tool_radius = 0;
 };
 
 /// One step of the peak zoom. Step 0 is the finest level itself.
@@ -184,6 +191,11 @@ struct RunQuantities : EquilibriumScalars {
 
 struct ConformingVerification {
   Eigen::VectorXd alpha;               ///< #F_sim fill ratios of the coarse run
+  /// The tool the conforming outline was cut with (ConformingOptions::tool_radius resolved, m) and
+  /// what it did: stencils whose outline it rounded, that it does not fit in (cut as drawn), that
+  /// it cuts in pieces (the largest kept).
+  double tool_radius = 0;
+  int tool_rounded = 0, tool_too_small = 0, tool_split = 0;
   RunQuantities coarse;
   Eigen::VectorXd coarse_W;            ///< #F_sim, J/m²
   std::vector<RunQuantities> levels;   ///< conforming levels, coarsest first

@@ -67,6 +67,10 @@ TEST(CliVerify, ConformingSheetConvergesAndMatchesTheCoarseRun) {
   EXPECT_EQ(report["options"]["grading_depth"], 2);
   EXPECT_EQ(report["options"]["elements_across"], 3.0);
   EXPECT_EQ(report["options"]["max_faces"], 800000);
+  // The outlines as drawn unless a tool is given (the scene's fabrication.tool_radius: 0 here).
+  EXPECT_EQ(report["options"]["tool_radius"], 0.0);
+  EXPECT_EQ(report["tool"]["radius"], 0.0);
+  EXPECT_EQ(report["tool"]["rounded"], 0);
   // Converged needs three levels by default and an error bar within the tolerance; the report says
   // the rule and the error bar relative to C∞.
   EXPECT_EQ(report["options"]["min_levels"], 3);

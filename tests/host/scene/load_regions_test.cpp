@@ -269,6 +269,42 @@ TEST(SupportExtent, LinesAreasAndPointsOfTheFixedVertices) {
               std::abs(0.1031 + 0.0204 * 0.0204 - 0.1036) / (0.0204 * 7.24), 1e-12);
 }
 
+// A hole inside an area support: its rim is the area's outline. Without the outer-boundary mask it
+// counts as line (what support_extent always did); with it, only the surface's own boundary does,
+// so a rim each mesh writes differently (a tool's arcs, chords of L/10 per level) does not read as
+// a support that holds something else.
+TEST(SupportExtent, TheRimOfAHoleInsideAnAreaSupportIsTheAreasOutline) {
+  const int n = 20;
+  const SurfaceMesh full = square(n, 0, 1);
+  // The strip x < −0.1 with the cells of [−0.4, −0.2] × [−0.1, 0.1] removed (a 0.2 × 0.2 hole).
+  std::vector<int> kept;
+  for (int f = 0; f < full.num_faces(); ++f) {
+    Vec3 c = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) c += full.vertices().row(full.faces()(f, k)).transpose() / 3.0;
+    if (!(c.x() > -0.4 && c.x() < -0.2 && std::abs(c.y()) < 0.1)) kept.push_back(f);
+  }
+  RowMatX3i F(Eigen::Index(kept.size()), 3);
+  for (size_t k = 0; k < kept.size(); ++k) F.row(Eigen::Index(k)) = full.faces().row(kept[k]);
+  const SurfaceMesh mesh(full.vertices(), F, "square with a hole");
+  std::vector<bool> fixed(size_t(mesh.num_vertices()), false), outer(size_t(mesh.num_vertices()), false);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3 x = mesh.vertices().row(v).transpose();
+    fixed[size_t(v)] = x.x() < -0.0999;
+    outer[size_t(v)] = std::abs(x.x()) > 0.4999 || std::abs(x.y()) > 0.4999;
+  }
+  const SupportExtent plain = support_extent(mesh, fixed);
+  const SupportExtent masked = support_extent(mesh, fixed, &outer);
+  // The strip's area less the hole, 0.4 − 0.04 m², less at most two corner triangles (h²/2 each).
+  EXPECT_NEAR(masked.area, 0.36, 1.0 / (n * n) + 1e-12);
+  EXPECT_EQ(masked.area, plain.area);
+  // Its outline on the square's boundary, 2 × 0.4 + 1 m, as line; the hole's rim, 0.8 m, only
+  // without the mask.
+  EXPECT_NEAR(masked.length, 1.8, 1e-12);
+  EXPECT_NEAR(plain.length, 2.6, 1e-12);
+  const std::vector<bool> too_few(3, true);
+  EXPECT_THROW(support_extent(mesh, fixed, &too_few), InputError);
+}
+
 TEST(LoadRegions, MatchedTotalsCarryTheLoadOverHoles) {
   // The square with a 0.2 × 0.2 hole inside the area load's region, as a cut mesh would have it:
   // the faces of an 10×10 grid whose centroids fall in the hole are removed.

@@ -66,6 +66,12 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   d["material"] = {{"thickness", -0.001}};
   expect_rejected(d, {"/material/thickness", "(0, 10]"});
   d = minimal_scene();
+  d["fabrication"] = {{"tool_radius", -0.001}};
+  expect_rejected(d, {"/fabrication/tool_radius", "[0, 1]"});
+  d["fabrication"] = {{"tool_radius", 0.0005}};
+  EXPECT_EQ(parse_scene(d, "test").fabrication.tool_radius, 0.0005);
+  EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["fabrication"]["tool_radius"], 0.0005);
+  d = minimal_scene();
   d["structure"] = {{"beta", 1.5}};
   expect_rejected(d, {"/structure/beta", "(0, 1]"});
   d["structure"] = {{"objective", "strongest"}};

@@ -16,6 +16,7 @@
 #include "host/mesh/mesh_mapping.h"
 #include "host/pattern/stencils_json.h"
 #include "host/scene/scene.h"
+#include "host/stencil/stencil_opening.h"
 #include "tests/support/test_support.h"
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/richardson.h"
@@ -125,6 +126,16 @@ TEST(ConformingVerification, RejectsBadOptions) {
   for (const int min_levels : {1, 7}) {
     o.min_levels = min_levels;
     EXPECT_THROW(verify_conforming(scene, meshes, lc, ctx, {}, o), InputError) << min_levels;
+  }
+  o.min_levels = 3;
+  for (const int zoom : {-1, 7}) {
+    o.peak_zoom = zoom;
+    EXPECT_THROW(verify_conforming(scene, meshes, lc, ctx, {}, o), InputError) << zoom;
+  }
+  o.peak_zoom = 0;
+  for (const double tool : {-0.001, double(NAN), double(INFINITY)}) {
+    o.tool_radius = tool;
+    EXPECT_THROW(verify_conforming(scene, meshes, lc, ctx, {}, o), InputError) << tool;
   }
 }
 
@@ -482,8 +493,8 @@ TEST(ConformingVerification, ThePeakZoomRefinesTheRimWhereThePeakIsAndSettlesIt)
   RecordProperty("submodel", fmt::format("patch {} triangles; steps {} {} triangles; peaks {:.5g} {:.5g} against {:.5g} {:.5g}",
                                          y.submodel_faces, y.steps[1].faces, y.steps[2].faces, y.steps[1].peak,
                                          y.steps[2].peak, z.steps[1].peak, z.steps[2].peak));
-  // Out of range.
-  o.peak_zoom = 5;
+  // Out of range (at most 6 steps).
+  o.peak_zoom = 7;
   EXPECT_THROW(verify_conforming(scene, meshes, lc, ctx, stencils, o), InputError);
 }
 
@@ -589,6 +600,64 @@ TEST(ConformingVerification, TheChairDesignSolvesOnItsConformingMesh) {
   for (int e : level_outline)
     for (int c = 0; c < 2; ++c) off += !on_base_outline(mesh.vertices().row(mesh.edges()(e, c)).transpose());
   EXPECT_EQ(off, 0) << "of " << level_outline.size() << " outline edges";
+}
+
+}  // namespace
+}  // namespace cutwork::solvers
+
+namespace cutwork::solvers {
+namespace {
+
+// The tool's cut (ConformingOptions::tool_radius, host/stencil/stencil_opening.h): three stars on
+// the plate. As drawn, their tips are sharp corners and the corner rule leaves the rim about them
+// out; cut with a tool of radius r they are arcs of radius r, nothing is left out, and the material
+// the tool leaves at the tips is the conforming mesh's extra area: Σ s² (A_drawn − A_opened).
+TEST(ConformingVerification, AToolRoundsTheStarsTipsAndTheRimIsReadThere) {
+  nlohmann::json doc = builtin_scene_json("plate");
+  doc["mesh"]["edge_length"] = 0.01;
+  doc["mesh"]["sim_edge_length"] = 0.02;
+  doc["stencils"] = nlohmann::json::array({{{"name", "star"}, {"kind", "star"}}});
+  const Scene scene = parse_scene(doc, "test:plate with stars");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  const PatternContext ctx(scene, meshes);
+  std::vector<StencilParams> stencils;
+  for (int i = 0; i < 3; ++i) {
+    StencilParams s;
+    s.position = Vec3(-0.05 + 0.05 * i, 0.0, 0.0);
+    s.scale = 0.02;
+    s.angle = 0.3 * i;
+    stencils.push_back(s);
+  }
+  ConformingOptions o;
+  o.edge_length = 0.004;
+  const ConformingVerification drawn = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  o.tool_radius = 0.002;
+  const ConformingVerification cut = verify_conforming(scene, meshes, lc, ctx, stencils, o);
+  ASSERT_EQ(drawn.levels.size(), 1u);
+  ASSERT_EQ(cut.levels.size(), 1u);
+  EXPECT_EQ(drawn.tool_rounded, 0);
+  EXPECT_EQ(cut.tool_rounded, 3);
+  EXPECT_EQ(cut.tool_too_small, 0);
+  EXPECT_EQ(cut.tool_radius, 0.002);
+  // As drawn, the 15 tips' surroundings are left out (and their largest W reported); cut by the
+  // tool, no corner is left.
+  EXPECT_GT(drawn.levels[0].singular_rim_points, 15);
+  EXPECT_TRUE(std::isfinite(drawn.levels[0].corner_peak));
+  EXPECT_FALSE(cut.levels[0].corner_peak > 0);
+  EXPECT_LT(cut.levels[0].singular_rim_points, drawn.levels[0].singular_rim_points);
+  // The tips the tool cannot cut stay material. The levels' meshes write the arcs with edges of at
+  // least L/10 (isotropic_remesh.h step 1): chords whose caps are a few % of the tips' area.
+  const ToolCutStencils tool = tool_cut_stencils(ctx.shapes(), stencils, 0.002);
+  double expected = 0;
+  for (int i = 0; i < 3; ++i) expected += 0.02 * 0.02 * (ctx.shapes()[0].area - tool.shapes[i].area);
+  const double extra = cut.levels[0].material_area - drawn.levels[0].material_area;
+  RecordProperty("tips", fmt::format("tool's material {:.4g} mm^2, expected {:.4g} mm^2", 1e6 * extra, 1e6 * expected));
+  EXPECT_GT(expected, 0);
+  EXPECT_NEAR(extra, expected, 0.05 * expected);
+  // More material under the same loads: stiffer (K grows, f·K⁻¹f falls; measured 0.983).
+  EXPECT_LT(cut.levels[0].compliance, drawn.levels[0].compliance);
+  RecordProperty("compliance", fmt::format("tool / drawn {:.4f}", cut.levels[0].compliance / drawn.levels[0].compliance));
 }
 
 }  // namespace
