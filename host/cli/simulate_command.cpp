@@ -140,7 +140,8 @@ void run_simulate(const SimulateOptions& opts) {
     sw.restart();
     stencils = set_design_stencils(shell, surface, meshes, opts.stencils);
     if (!stencils.empty())
-      cut = cut_stencils(surface.bvh(), surface.shapes(), surface.field(), stencils);  // render_design
+      cut = cut_with_tool(surface.bvh(), surface.shapes(), surface.field(), stencils,
+                          scene.fabrication.tool_radius);  // render_design
     fill_seconds += sw.seconds();
     timings.add("fill_ratios", fill_seconds);
   }

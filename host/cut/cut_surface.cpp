@@ -13,9 +13,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <tuple>
 #include <vector>
 
+#include "host/core/error.h"
 #include "host/core/internal_error.h"
 #include "host/stencil/fill_ratio.h"
 #include "kernels/common/stencil_geometry.h"
@@ -846,6 +848,17 @@ CutSurface cut_stencils(const FaceBvh& surface_bvh, const StencilLibrary& shapes
     });
   }
   return merge_face_cuts(mesh, cuts);
+}
+
+CutSurface cut_with_tool(const FaceBvh& surface_bvh, const StencilLibrary& shapes, const TangentField& field,
+                         std::span<const StencilParams> stencils, double tool_radius, ToolCutStencils* tool) {
+  if (!(tool_radius >= 0) || !std::isfinite(tool_radius))
+    throw InputError("tool radius " + std::to_string(tool_radius) + " m: expected a finite radius of at least 0");
+  if (tool_radius == 0) return cut_stencils(surface_bvh, shapes, field, stencils);
+  ToolCutStencils own;
+  ToolCutStencils& t = tool ? *tool : own;
+  t = tool_cut_stencils(shapes, stencils, tool_radius);
+  return cut_stencils(surface_bvh, t.shapes, field, t.stencils);
 }
 
 }  // namespace cutwork

@@ -45,6 +45,7 @@
 #include "host/core/types.h"
 #include "host/mesh/bvh.h"
 #include "host/stencil/frame.h"
+#include "host/stencil/stencil_opening.h"
 #include "host/stencil/stencil_shape.h"
 
 namespace cutwork {
@@ -73,5 +74,13 @@ struct CutSurface {
 /// and positive, type not in `shapes`) or stencils with an empty library.
 CutSurface cut_stencils(const FaceBvh& surface_bvh, const StencilLibrary& shapes,
                         const TangentField& field, std::span<const StencilParams> stencils);
+
+/// The stencils as a tool of radius `tool_radius` (m) cuts them (host/stencil/stencil_opening.h:
+/// each stencil the union of the discs of that radius inside it), cut out: what a part cut with
+/// that tool is (fabrication.tool_radius). 0: cut_stencils of the drawn outlines. With `tool`, what
+/// the tool did (its shapes and counts; left empty for 0). Throws InputError as cut_stencils and
+/// tool_cut_stencils do, and for a tool radius that is not finite and at least 0.
+CutSurface cut_with_tool(const FaceBvh& surface_bvh, const StencilLibrary& shapes, const TangentField& field,
+                         std::span<const StencilParams> stencils, double tool_radius, ToolCutStencils* tool = nullptr);
 
 }  // namespace cutwork

@@ -20,7 +20,6 @@
 #include "host/core/error.h"
 #include "host/core/timer.h"
 #include "host/cut/cut_surface.h"
-#include "host/stencil/stencil_opening.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
 #include "host/mesh/mesh_mapping.h"
@@ -391,8 +390,9 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   // The outline as the tool cuts it (stencil_opening.h): one shape per stencil, opened by the
   // tool's radius over the stencil's scale.
   v.tool_radius = options.tool_radius;
-  const ToolCutStencils tool_cut =
-      v.tool_radius > 0 ? tool_cut_stencils(ctx.shapes(), stencils, v.tool_radius) : ToolCutStencils{};
+  ToolCutStencils tool_cut;
+  const CutSurface cut =
+      cut_with_tool(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), stencils, v.tool_radius, &tool_cut);
   v.tool_rounded = tool_cut.rounded;
   v.tool_too_small = tool_cut.too_small;
   v.tool_split = tool_cut.split;
@@ -404,9 +404,6 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     v.notes.push_back(fmt::format("{} stencil(s) with a neck narrower than the tool's diameter {:.3g} m: the tool cuts "
                                   "them in pieces, the largest is cut",
                                   tool_cut.split, 2 * v.tool_radius));
-  const CutSurface cut = v.tool_radius > 0
-                             ? cut_stencils(ctx.surface().bvh(), tool_cut.shapes, ctx.surface().field(), tool_cut.stencils)
-                             : cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), stencils);
   if (cut.faces.rows() == 0) throw InputError("the stencils cut the whole surface away: nothing to verify");
   // The narrow ligaments W_peak cannot see (ligament_peak.h), from the coarse run's W_peak.
   if (coarse_W_peak.size() == meshes.sim.num_faces()) {
@@ -682,9 +679,12 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
         "rim points within the minimum feature ({:.3g} m) of corners sharper than it, left out of the conforming peak, "
         "read up to {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m on the finest level, against its peak {:.4g}: where those "
         "corners are the stencils' own rounds the shell's peak is there, unresolved (W_peak's factors leave them out "
-        "too, by the same rule)",
+        "too, by the same rule){}",
         scene.fabrication.min_feature, f.corner_peak, f.corner_peak_position.x(), f.corner_peak_position.y(),
-        f.corner_peak_position.z(), f.peak));
+        f.corner_peak_position.z(), f.peak,
+        v.tool_radius > 0 ? std::string()
+                          : std::string("; a part cut with a tool has them rounded: --tool-radius (or the scene's "
+                                        "fabrication.tool_radius) reads them so")));
   const bool zoomed = v.zoom.steps.size() >= 2;
   v.conforming_peak = zoomed ? v.zoom.steps.back().peak : f.peak;
   v.compliance_ratio = ratio(v.coarse.compliance, f.compliance);

@@ -155,7 +155,8 @@ json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternC
                    {"triangles", cut.faces.rows()},
                    {"area", cut.area},
                    {"split_triangles", cut.split_faces},
-                   {"removed_triangles", cut.removed_faces}};
+                   {"removed_triangles", cut.removed_faces},
+                   {"tool_radius", scene.fabrication.tool_radius}};
   const auto& t = r.stage_times;
   report["timings"]["stages"] = {{"fill_seconds", t.fill},         {"fills", t.fills},
                                  {"equilibrium_seconds", t.equilibrium}, {"equilibria", t.equilibria},
@@ -176,7 +177,10 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   out.result = &result;
   Stopwatch sw;
   const std::vector<StencilParams> final_params = layout_params(result.layout);
-  out.cut = cut_stencils(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params);
+  // The holes as the scene's tool cuts them (fabrication.tool_radius; 0: as drawn): what is printed,
+  // the solids and the minimum-feature check.
+  out.cut = cut_with_tool(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params,
+                          scene.fabrication.tool_radius);
   info.timings.add("cut", sw.seconds());
   json discretisation = nullptr;
   if (info.discretisation_estimate) {

@@ -43,7 +43,8 @@ struct DesignOutputs {
   const SceneMeshes* meshes = nullptr;
   const PatternContext* ctx = nullptr;
   const DesignResult* result = nullptr;
-  CutSurface cut;          ///< the base mesh with the final stencils cut out
+  CutSurface cut;          ///< the base mesh with the final stencils cut out, as the scene's tool
+                           ///< cuts them (fabrication.tool_radius; cut_with_tool)
   nlohmann::json report;   ///< report.json
   /// The largest ligament peak estimate (J/m², solvers/objective/ligament_peak.h; NaN without
   /// concentration factors or narrow ligaments): report.json's structure.ligaments.W_ligament_max.

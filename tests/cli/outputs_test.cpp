@@ -80,6 +80,7 @@ TEST(CliOutputs, DesignWritesParaViewFieldsASolidAndPictures) {
   EXPECT_NEAR(fab["solid"]["volume"].get<double>(), report["cut"]["area"].get<double>() * fab["thickness"].get<double>(),
               0.01 * fab["solid"]["volume"].get<double>());
   EXPECT_EQ(fab["min_feature"], 0.001);
+  EXPECT_EQ(report["cut"]["tool_radius"], 0.0);  // the scene's fabrication.tool_radius: the drawn outlines
   EXPECT_EQ(fab["violations"].size(), fab["violation_count"].get<size_t>());
   const ThreeMfMesh m = read_3mf(out / "cut_solid.3mf");
   EXPECT_EQ(m.faces.rows(), fab["solid"]["triangles"].get<int>());

@@ -293,6 +293,35 @@ TEST(CutSurface, PlateAreaEqualsFillAreaAndStencilArea) {
   }
 }
 
+// The tool's cut (cut_with_tool): on the plate the cut removes exactly the opened polygons, so the
+// cut's area is the plate's less Σ s² A_opened, and the tool leaves Σ s² (A_drawn − A_opened) more
+// than the drawn cut; radius 0 is the drawn cut itself.
+TEST(CutSurface, AToolsCutRemovesTheOpenedPolygons) {
+  const Surface& s = *plate();
+  const auto stencils = random_stencils(s.mesh, 25, 0.003, 0.015, 4u, inside_plate);
+  ASSERT_GE(stencils.size(), 10u);
+  const double tool_radius = 0.0008;
+  ToolCutStencils tool;
+  const CutSurface cut = cut_with_tool(s.bvh, library(), field(), stencils, tool_radius, &tool);
+  ASSERT_EQ(tool.stencils.size(), stencils.size());
+  double opened = 0, drawn = 0;
+  for (size_t i = 0; i < stencils.size(); ++i) {
+    opened += stencils[i].scale * stencils[i].scale * tool.shapes[int(i)].area;
+    drawn += stencils[i].scale * stencils[i].scale * library()[stencils[i].type].area;
+  }
+  EXPECT_GT(tool.rounded, 0);
+  EXPECT_GT(drawn - opened, 0);
+  const double base = s.mesh.face_areas().sum();
+  EXPECT_LT(relative_error(base - cut.area, opened), 1e-9);
+  const CutSurface as_drawn = cut_stencils(s.bvh, library(), field(), stencils);
+  EXPECT_LT(relative_error(cut.area - as_drawn.area, drawn - opened), 1e-6);
+  check_quality(cut);
+  const CutSurface zero = cut_with_tool(s.bvh, library(), field(), stencils, 0);
+  EXPECT_EQ(zero.vertices, as_drawn.vertices);
+  EXPECT_EQ(zero.faces, as_drawn.faces);
+  EXPECT_THROW(cut_with_tool(s.bvh, library(), field(), stencils, -1e-3), InputError);
+}
+
 TEST(CutSurface, CurvedAreaEqualsFillArea) {
   struct Case {
     const char* name;
