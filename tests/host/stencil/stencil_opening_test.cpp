@@ -99,8 +99,7 @@ TEST(PolygonOpening, AStarsTipsAreRoundedAndItsNotchesStaySharp) {
         EXPECT_LE(nearest, 0.025 * r);
       }
     }
-    // The tips' arcs have the tool's radius: every opened point more than r from the drawn
-    // tips' sides' ends lies on the drawn outline or within r of it.
+    // The tool leaves material at the tips: the opening is smaller than the drawn star.
     EXPECT_LT(signed_area(o.polygon), signed_area(drawn));
   }
 }
