@@ -26,12 +26,6 @@ using LinearPolygon = CGAL::Polygon_2<Kernel>;
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-double signed_area(const std::vector<Vec2>& p) {
-  double a = 0;
-  for (size_t i = 0, n = p.size(); i < n; ++i) a += cross(p[i], p[(i + 1) % n]);
-  return 0.5 * a;
-}
-
 /// No corner of the polygon is sharp at r: every vertex where it turns towards its inside (a convex
 /// vertex) turns by at most kToolCornerTurn and its fillet of radius r fits within half of each of
 /// its edges (its local radius, edge / turn, is at least about r). Such a polygon is a smooth curve
@@ -140,8 +134,8 @@ OpenedPolygon open_polygon(std::span<const Vec2> polygon, double radius, double 
     const auto dilated = CGAL::approximated_offset_2(to_cgal(eroded), radius, eps);
     std::vector<Vec2> q = linearise(dilated.outer_boundary(), arc_step, false, merge);
     if (q.size() < 3) continue;
-    if (signed_area(q) < 0) std::reverse(q.begin(), q.end());
-    const double a = signed_area(q);
+    if (polygon_signed_area(q) < 0) std::reverse(q.begin(), q.end());
+    const double a = polygon_signed_area(q);
     if (a > best) {
       best = a;
       out.polygon = std::move(q);

@@ -393,6 +393,8 @@ StencilShape make_polygon_stencil(const std::string& name, const std::vector<Vec
   return finalize(name, "polygon", pts);
 }
 
+double polygon_signed_area(const std::vector<Vec2>& polygon) { return signed_area(polygon); }
+
 StencilShape shape_in_reference_frame(const std::string& name, const std::string& kind, std::vector<Vec2> polygon) {
   const std::string who = "stencil shape '" + name + "'";
   if (polygon.size() < 3 || polygon.size() > size_t(kMaxStencilPolygonVertices))

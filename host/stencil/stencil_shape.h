@@ -73,6 +73,9 @@ StencilShape make_builtin_stencil(const std::string& kind,
 /// enclosing circle is the origin, and scaled so that circle's radius is 1.
 StencilShape make_polygon_stencil(const std::string& name, const std::vector<Vec2>& pts);
 
+/// Signed area of a polygon (positive counter-clockwise), in its own units.
+double polygon_signed_area(const std::vector<Vec2>& polygon);
+
 /// A shape whose polygon is given in its reference frame as it is (counter-clockwise, simple, every
 /// |p| ≤ 1): not moved or rescaled, so it may lie strictly inside the unit circle — a stencil's
 /// shape cut down about the same centre and scale (stencil_opening.h). Area, perimeter and inner
