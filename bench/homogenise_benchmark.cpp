@@ -3,6 +3,9 @@
 // the rim by the rim recovery.
 //   BM_CellHomogenisation/<shape>/<alpha %>/<rim edges>: rim edges 0 = the resolution alone
 //   (24 per spacing, raised for narrow ligaments); 16 = the default, the rim resolved for the peak.
+//   BM_ToolCell/<shape>/<alpha %>/<64 τ>: the hole as a tool of radius τ bounding radii cuts it
+//   (CellOptions::tool_radius; 0 = as drawn), its rounds refined to 12 edges per radius: what the
+//   calibration by the tool pays per node and distinct fill ratio.
 // Counters: faces of the cell, resolution (edges per spacing), K_m and K_b (the largest states).
 #include <benchmark/benchmark.h>
 
@@ -14,11 +17,11 @@
 namespace cutwork {
 namespace {
 
-void BM_CellHomogenisation(benchmark::State& state, const std::string& kind) {
+/// Times homogenise_cell of `kind` at α = range(0) % with `options`; the cell's size and factors
+/// as counters.
+void time_cell(benchmark::State& state, const std::string& kind, const solvers::CellOptions& options) {
   const StencilShape shape = make_builtin_stencil(kind, {}, kind);
   const Material material;  // PA12; K and the ratios depend on ν only
-  solvers::CellOptions options;
-  options.rim_edges = double(state.range(1));
   const double alpha = 0.01 * double(state.range(0));
   solvers::CellStiffness cell;
   for (auto _ : state) {
@@ -30,6 +33,25 @@ void BM_CellHomogenisation(benchmark::State& state, const std::string& kind) {
   state.counters["K_m"] = cell.membrane_concentration;
   state.counters["K_b"] = cell.bending_concentration;
 }
+
+void BM_CellHomogenisation(benchmark::State& state, const std::string& kind) {
+  solvers::CellOptions options;
+  options.rim_edges = double(state.range(1));
+  time_cell(state, kind, options);
+}
+
+void BM_ToolCell(benchmark::State& state, const std::string& kind) {
+  solvers::CellOptions options;
+  options.tool_radius = double(state.range(1)) / 64;
+  time_cell(state, kind, options);
+}
+
+BENCHMARK_CAPTURE(BM_ToolCell, star, std::string("star"))
+    ->Args({75, 0})
+    ->Args({75, 1})
+    ->Args({75, 8})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_CAPTURE(BM_CellHomogenisation, circle, std::string("circle"))
     ->Args({90, 0})

@@ -197,6 +197,9 @@ void run_verify(const VerifyOptions& opts) {
   run.scene = design_scene(opts, dir, design_report);
   run.quiet = opts.quiet;
   LoadedScene loaded(run, timings);
+  // --tool-radius stands for the scene's tool: the conforming outline and the coarse W_peak's
+  // factors (MechanicsSettings::tool_radius) both follow it.
+  if (opts.tool_radius >= 0) set_tool_radius(loaded.scene, opts.tool_radius);
   const SceneMeshes& meshes = loaded.meshes;
   if (design_report.contains("mesh") && design_report["mesh"].value("sim_triangles", -1) != meshes.sim.num_faces())
     throw InputError(fmt::format("{}: the design was made on {} simulation triangles, the scene {} gives {}: the "
@@ -218,7 +221,7 @@ void run_verify(const VerifyOptions& opts) {
   co.max_faces = opts.max_faces;
   co.grading_depth = opts.grading_depth;
   co.elements_across = opts.elements_across;
-  co.tool_radius = opts.tool_radius >= 0 ? opts.tool_radius : loaded.scene.fabrication.tool_radius;
+  co.tool_radius = loaded.scene.fabrication.tool_radius;
   sw.restart();
   const solvers::ConformingVerification v =
       solvers::verify_conforming(loaded.scene, meshes, loaded.load_case, ctx, sf.stencils, co);

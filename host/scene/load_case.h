@@ -39,6 +39,11 @@ inline constexpr double biaxiality_node(int j) { return -1.0 + 2.0 * j / (kBiaxi
 /// in the stencil's bounding radii: ε_c = c/(kCornerNodes − 1), 0 to 1.
 inline constexpr int kCornerNodes = 9;
 inline constexpr double corner_node(int c) { return double(c) / (kCornerNodes - 1); }
+/// Nodes of a shape's concentration by the tool's radius (FillStiffnessCurve::tool_cut), in the
+/// stencil's bounding radii: τ_c = 2^(c − 6), 1/64 to 1/2 (K of a round grows about as 1/τ: K at a
+/// star's tips 294, 145, 73, 35, 16 from 1/64 to 1/4 at α = 0.75).
+inline constexpr int kToolNodes = 6;
+inline constexpr double tool_node(int c) { return 1.0 / double(1 << (kToolNodes - c)); }
 
 struct FillStiffnessCurve {
   std::vector<double> alpha;     ///< sample fill ratios, strictly increasing, in (0, 1], last = 1
@@ -66,11 +71,17 @@ struct FillStiffnessCurve {
     /// singular corners left out (cutwork verify's corner rule at the fabrication minimum feature,
     /// MechanicsSettings::corner_radius, in the stencil's own size; optional, empty: ε = 0 only):
     /// per sample kCornerNodes × kBiaxialityNodes values, corner node major; node 0 is the table
-    /// above.
+    /// above. With tool_cut, K of the hole a tool of radius τ_c = tool_node(c) bounding radii cuts
+    /// (kToolNodes × kBiaxialityNodes per sample; node 0, τ = 1/64, is then the table above).
     std::vector<std::vector<double>> membrane_by_corner, bending_by_corner;
     bool empty() const { return membrane.empty(); }
   };
   std::vector<ShapeConcentration> shape_concentration;
+  /// The shapes' factors by corner are the tool's (MechanicsSettings::tool_radius > 0): K of the
+  /// holes opened by a disc of τ_c bounding radii (cell_homogenisation.h, "The tool's rounds"), read
+  /// at every rim point, at the nodes tool_node(c); otherwise the corner rule's at corner_node(c).
+  /// The stiffness ratios are the drawn holes' either way (the coarse model's fill ratios are).
+  bool tool_cut = false;
   /// The isotropic split (optional; empty: the scalar rule above scales the whole of each element):
   /// r of the bulk (equibiaxial) and shear (deviatoric) moduli separately, membrane and bending,
   /// each (effective modulus / (α · solid modulus)); last = 1. A perforation softens the two modes
@@ -126,11 +137,16 @@ struct MechanicsSettings {
   Vec3 lattice_axis = Vec3::UnitX();
   /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
   FillStiffnessCurve stiffness_curve;
-  /// The radius (m) about a stencil's singular corners within which W_peak does not read the rim
-  /// (the factors by corner of ShapeConcentration, at corner_radius / the stencil's scale): the
-  /// fabrication minimum feature, copied from the scene's fabrication.min_feature by parse_scene,
-  /// as cutwork verify leaves those rim points out of the conforming peak. 0: every rim point.
+  /// The radius (m) at a stencil's corners W_peak reads its factors by corner at (corner_radius /
+  /// the stencil's scale, ShapeConcentration): without a tool the radius about singular corners
+  /// within which the rim is not read — the fabrication minimum feature, copied from the scene's
+  /// fabrication.min_feature by parse_scene, as cutwork verify leaves those rim points out of the
+  /// conforming peak (0: every rim point); with one, the tool's radius (its rounds).
   double corner_radius = 0;
+  /// The radius (m) of the tool the part is cut with (fabrication.tool_radius; 0: as drawn). When
+  /// positive the homogenised curve's factors by corner are the tool's (FillStiffnessCurve::tool_cut)
+  /// and corner_radius is this radius.
+  double tool_radius = 0;
 };
 
 enum class SupportKind {

@@ -436,10 +436,17 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
                      ": /structure/measure: 'peak' needs mechanics.stiffness 'homogenised' (the concentration factors "
                      "come from its cell problems)");
   scene.fabrication = parse_fabrication_section(root);
-  // W_peak leaves out the rim about singular corners as verify does (load_case.h).
-  scene.mechanics.corner_radius = scene.fabrication.min_feature;
+  set_tool_radius(scene, scene.fabrication.tool_radius);
   root.finish();
   return scene;
+}
+
+void set_tool_radius(Scene& scene, double tool_radius) {
+  scene.fabrication.tool_radius = tool_radius;
+  scene.mechanics.tool_radius = tool_radius;
+  // W_peak reads its factors by corner at the tool's rounds, or without a tool leaves out the rim
+  // about singular corners as verify does (load_case.h).
+  scene.mechanics.corner_radius = tool_radius > 0 ? tool_radius : scene.fabrication.min_feature;
 }
 
 nlohmann::ordered_json scene_to_json(const Scene& s) {

@@ -155,6 +155,12 @@ struct Scene {
 Scene parse_scene(const nlohmann::json& doc, const std::string& origin,
                   const std::filesystem::path& base_dir = {});
 
+/// Sets the radius (m, ≥ 0) of the tool the holes are cut with (fabrication.tool_radius) and what
+/// the mechanics reads from it (MechanicsSettings::tool_radius, and corner_radius: the tool's radius,
+/// or the minimum feature without a tool). parse_scene calls it; so does a command that overrides
+/// the scene's tool (cutwork verify --tool-radius).
+void set_tool_radius(Scene& scene, double tool_radius);
+
 /// The complete document of a scene, every default filled in, keys in the documented order:
 /// parsing it again gives the same scene.
 nlohmann::ordered_json scene_to_json(const Scene& scene);

@@ -1,7 +1,9 @@
 #include "solvers/homogenise/cell_homogenisation.h"
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <span>
 #include <numbers>
@@ -17,6 +19,7 @@
 #include "host/mesh/bvh.h"
 #include "host/mesh/isotropic_remesh.h"
 #include "host/stencil/frame.h"
+#include "host/stencil/stencil_opening.h"
 #include "solvers/conforming/rim_recovery.h"
 #include "solvers/homogenise/free_edge_strain.h"
 #include "solvers/linear/cholmod_solver.h"
@@ -99,23 +102,196 @@ SurfaceMesh lattice_grid(const LatticeGeometry& L, int n, int i0, int i1, int j0
   return SurfaceMesh(V, F, "homogenisation cell");
 }
 
-SurfaceMesh period_cell(const LatticeGeometry& L, const StencilShape& shape, double scale, int n,
-                        int remesh_iterations) {
+/// The cell's hole: the shape as drawn, or as a tool of radius `tool` (bounding radii) cuts it
+/// (CellOptions::tool_radius), with the points of the opened polygon on the tool's rounds.
+struct CellHole {
+  StencilShape shape;
+  std::vector<Vec2> rounds;  ///< reference frame; empty as drawn or where the tool changed nothing
+};
+
+CellHole cell_hole(const StencilShape& shape, double tool) {
+  CellHole h{shape, {}};
+  if (!(tool > 0)) return h;
+  const OpenedPolygon opened = open_polygon(shape.polygon, tool);
+  // No disc of the tool's radius fits: kept as drawn, as cutwork verify keeps such a stencil
+  // (tool_cut_stencils' too_small; the minimum feature check reports it).
+  if (opened.unchanged || opened.polygon.empty()) return h;
+  h.shape = shape_in_reference_frame(shape.name + "@tool", shape.kind, opened.polygon);
+  // The opening's straight pieces lie on the drawn sides (1e-5 τ) and its notches' arcs within
+  // 0.02 τ of the drawn notches; a vertex farther than τ/20 from the drawn outline is on a round.
+  const std::vector<Vec2>& drawn = shape.polygon;
+  for (const Vec2& p : opened.polygon) {
+    double d = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < drawn.size(); ++i) {
+      const Vec2 a = drawn[i], e = drawn[(i + 1) % drawn.size()] - a;
+      const double t = std::clamp((p - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+      d = std::min(d, (p - a - t * e).norm());
+    }
+    if (d > 0.05 * tool) h.rounds.push_back(p);
+  }
+  // No point of the opening farther than τ/20 from the drawn outline (the default flower's petals
+  // at τ = 1/4, rounds of about that radius): the drawn cell. Cut, its outline would carry the
+  // opening's short segments unrefined (no round to refine about), and the faces beside them read a
+  // bending K of 209 against the drawn cell's 5.4.
+  if (h.rounds.empty()) h.shape = shape;
+  return h;
+}
+
+/// The faces about a cell's rounds halved down to the round's radius / `round_edges` (see "The
+/// tool's rounds"), the faces with a vertex on the parallelogram's sides frozen; new vertices onto
+/// (surface_V, surface_F), the cut before remeshing, whose outline holds the rounds' arcs.
+/// The halvings that bring edges of 1/n down to round_radius / round_edges (at most 10).
+int round_depth(double round_radius, int n, double round_edges) {
+  return std::clamp(int(std::ceil(std::log2(round_edges / (n * round_radius)) - 1e-9)), 0, 10);
+}
+
+/// The radius about each round's points within which refine_rounds grades the mesh: its widest
+/// focus ball and the two rings of faces of its first pass (half the base size each).
+double round_zone(double round_radius, int n, double round_edges) {
+  const int depth = round_depth(round_radius, n, round_edges);
+  return depth > 0 ? 2 * round_radius * (1 + 0.5 * (depth - 1)) + 2.0 / n : 0.0;
+}
+
+/// Makes the parallelogram's opposite sides carry translated copies of each other's vertices again
+/// where a refinement split side edges on one side only: a side vertex without a partner across (to
+/// 1e-9 in lattice coordinates) splits the opposite side's edge that holds its place, the edge's face
+/// becoming a fan. Both sides about a round that crosses them are refined alike (the rounds of the
+/// neighbouring holes are focus centres too), so the fans are short.
+void match_sides(const LatticeGeometry& L, RemeshedMesh& mesh) {
+  const auto snapped = [&](Eigen::Index v) {
+    Eigen::Vector2d c = L.coordinates(mesh.vertices.row(v).transpose());
+    for (int k = 0; k < 2; ++k)
+      if (std::abs(c[k]) < 1e-9) c[k] = 0;
+      else if (std::abs(c[k] - 1) < 1e-9) c[k] = 1;
+    return c;
+  };
+  std::vector<Eigen::Vector2d> st(size_t(mesh.vertices.rows()));
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) st[size_t(v)] = snapped(v);
+  // Each side (coordinate j at value w) by its vertices' other coordinate.
+  std::vector<double> on_side[2][2];
+  for (const Eigen::Vector2d& c : st)
+    for (int j = 0; j < 2; ++j)
+      for (int w = 0; w < 2; ++w)
+        if (c[j] == w) on_side[j][w].push_back(c[1 - j]);
+  for (auto& family : on_side)
+    for (auto& side : family) std::sort(side.begin(), side.end());
+  const auto has = [](const std::vector<double>& side, double c) {
+    const auto it = std::lower_bound(side.begin(), side.end(), c - 1e-9);
+    return it != side.end() && *it <= c + 1e-9;
+  };
+  // The directed boundary edges along each side, by face: (face, local edge k from vertex k to k + 1).
+  std::map<std::pair<int, int>, std::pair<int, int>> directed;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) directed[{mesh.faces(f, k), mesh.faces(f, (k + 1) % 3)}] = {int(f), k};
+  // Points to insert, by face and local edge: their coordinate along the edge (0 at vertex k).
+  std::map<std::pair<int, int>, std::vector<std::pair<double, Vec3>>> inserts;
+  for (const auto& [edge, at] : directed) {
+    if (directed.count({edge.second, edge.first})) continue;  // interior
+    const Eigen::Vector2d &a = st[size_t(edge.first)], &b = st[size_t(edge.second)];
+    for (int j = 0; j < 2; ++j)
+      for (int w = 0; w < 2; ++w) {
+        if (a[j] != w || b[j] != w) continue;
+        const double lo = std::min(a[1 - j], b[1 - j]), hi = std::max(a[1 - j], b[1 - j]);
+        const std::vector<double>& across = on_side[j][1 - w];
+        for (auto it = std::upper_bound(across.begin(), across.end(), lo + 1e-9); it != across.end() && *it < hi - 1e-9;
+             ++it) {
+          if (has(on_side[j][w], *it)) continue;
+          Eigen::Vector2d c;
+          c[j] = w;
+          c[1 - j] = *it;
+          inserts[at].emplace_back((*it - a[1 - j]) / (b[1 - j] - a[1 - j]), c[0] * L.a1 + c[1] * L.a2);
+        }
+      }
+  }
+  if (inserts.empty()) return;
+  std::vector<Vec3> vertices;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) vertices.push_back(mesh.vertices.row(v).transpose());
+  std::vector<Eigen::Vector3i> faces;
+  // By face: the points of each of its edges, in order along the edge. A face with points on one
+  // edge becomes a fan from the opposite vertex; one at a corner of the parallelogram, with points on
+  // two, a fan from its centroid (a fan from a vertex would be flat along one of them).
+  std::map<int, std::array<std::vector<std::pair<double, Vec3>>, 3>> by_face;
+  for (auto& [at, points] : inserts) {
+    std::sort(points.begin(), points.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+    by_face[at.first][size_t(at.second)] = points;
+  }
+  std::vector<bool> replaced(size_t(mesh.faces.rows()), false);
+  for (const auto& [f, edges] : by_face) {
+    replaced[size_t(f)] = true;
+    int split = 0, k = 0;
+    for (int e = 0; e < 3; ++e)
+      if (!edges[size_t(e)].empty()) ++split, k = e;
+    std::vector<int> ring;  // the face's boundary with the new points, counter-clockwise from vertex 0
+    for (int e = 0; e < 3; ++e) {
+      ring.push_back(mesh.faces(f, e));
+      for (const auto& [t, X] : edges[size_t(e)]) {
+        vertices.push_back(X);
+        ring.push_back(int(vertices.size()) - 1);
+      }
+    }
+    int apex = mesh.faces(f, (k + 2) % 3);
+    if (split > 1) {
+      vertices.push_back((mesh.vertices.row(mesh.faces(f, 0)) + mesh.vertices.row(mesh.faces(f, 1)) +
+                          mesh.vertices.row(mesh.faces(f, 2))).transpose() / 3.0);
+      apex = int(vertices.size()) - 1;
+    }
+    for (size_t i = 0; i < ring.size(); ++i) {
+      const int a = ring[i], b = ring[(i + 1) % ring.size()];
+      if (a != apex && b != apex) faces.emplace_back(a, b, apex);
+    }
+  }
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f)
+    if (!replaced[size_t(f)]) faces.push_back(mesh.faces.row(f).transpose());
+  mesh.vertices.resize(Eigen::Index(vertices.size()), 3);
+  for (size_t v = 0; v < vertices.size(); ++v) mesh.vertices.row(Eigen::Index(v)) = vertices[v].transpose();
+  mesh.faces.resize(Eigen::Index(faces.size()), 3);
+  for (size_t f = 0; f < faces.size(); ++f) mesh.faces.row(Eigen::Index(f)) = faces[f].transpose();
+}
+
+RemeshedMesh refine_rounds(const LatticeGeometry& L, RemeshedMesh mesh, const RowMatX3d& surface_V,
+                           const RowMatX3i& surface_F, const std::vector<Vec3>& centres, double round_radius, int n,
+                           double round_edges, int remesh_iterations) {
+  const int depth = round_depth(round_radius, n, round_edges);
+  if (centres.empty() || depth <= 0) return mesh;
+  RemeshOptions ro;
+  ro.target_edge_length = 1.0 / n;
+  ro.iterations = remesh_iterations;
+  ro.grading.focus = centres;
+  ro.grading.focus_radius = 2 * round_radius;
+  ro.grading.focus_depth = depth;
+  // Rounds near a side (a hole that crosses the parallelogram) are refined there too, on both sides;
+  // match_sides makes them copies of each other again.
+  RemeshedMesh refined = refine_about(mesh.vertices, mesh.faces, std::vector<bool>(size_t(mesh.faces.rows()), false),
+                                      surface_V, surface_F, ro);
+  match_sides(L, refined);
+  return refined;
+}
+
+SurfaceMesh period_cell(const LatticeGeometry& L, const CellHole& hole, double scale, int n, int remesh_iterations,
+                        double tool, double round_edges) {
   SurfaceMesh grid = lattice_grid(L, n, 0, 1, 0, 1);
   if (scale <= 0) return grid;
   StencilLibrary library;
-  library.add(shape);
+  library.add(hole.shape);
   RemeshOptions ro;
   ro.target_edge_length = 1.0 / n;
   ro.iterations = remesh_iterations;
   StencilParams centre;
   centre.position = 0.5 * (L.a1 + L.a2);
   centre.scale = scale;
+  // The rounds' points of every hole placed (angle 0: the reference frame's axes are the cell's).
+  const auto round_centres = [&](const std::vector<StencilParams>& placed) {
+    std::vector<Vec3> out;
+    for (const StencilParams& p : placed)
+      for (const Vec2& q : hole.rounds) out.push_back(p.position + scale * Vec3(q.x(), q.y(), 0));
+    return out;
+  };
   if (scale <= L.inscribed) {
     // The hole inside the cell.
     const FaceBvh bvh(grid);
     const CutSurface cut = cut_stencils(bvh, library, AxisTangentField(), std::span(&centre, 1));
-    RemeshedMesh r = remesh_isotropic(cut.vertices, cut.faces, ro);
+    RemeshedMesh r = refine_rounds(L, remesh_isotropic(cut.vertices, cut.faces, ro), cut.vertices, cut.faces,
+                                   round_centres({centre}), tool * scale, n, round_edges, remesh_iterations);
     return SurfaceMesh(std::move(r.vertices), std::move(r.faces), "homogenisation cell");
   }
   // A hole larger than the cell's inscribed circle crosses its sides, and its parts outside come
@@ -157,7 +333,8 @@ SurfaceMesh period_cell(const LatticeGeometry& L, const StencilShape& shape, dou
   // differ on opposite sides, and the sides must stay translated copies of each other (tile_cell
   // checks it).
   ro.min_boundary_edge = 0;
-  RemeshedMesh r = remesh_isotropic(V, F, ro);
+  RemeshedMesh r = refine_rounds(L, remesh_isotropic(V, F, ro), V, F, round_centres(holes), tool * scale, n,
+                                 round_edges, remesh_iterations);
   return SurfaceMesh(std::move(r.vertices), std::move(r.faces), "homogenisation cell");
 }
 
@@ -341,7 +518,7 @@ std::vector<std::pair<ConcentrationState, Eigen::Vector3d>> concentration_states
 /// (rim_recovery.h; linear in the case's displacement, read at amplitude kProbe).
 void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, const std::vector<int>& period,
                           int centre, const std::vector<LocalStiffness>& elements, const Eigen::MatrixXd& fluctuation,
-                          CellStiffness& out) {
+                          const std::vector<Vec3>& rounds, double round_zone, CellStiffness& out) {
   const double scale = out.scale;  // the stencil's bounding radius in lattice spacings
   using Mat6 = Eigen::Matrix<double, kCases, kCases>;
   const int nf = cell.num_faces();
@@ -405,10 +582,20 @@ void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, cons
   // Faces within a rim point's patch are left to the rim's reading: a face's constant strain (and
   // its shape-operator curvature) next to a free edge scatters with the faces' shapes (the largest
   // face W next to a dilute circle's rim read 1.2× Goodier's bending peak, and ±7% on Kirsch's).
+  // So are the faces the tool's rounds graded (within `round_zone` of their points): next to a face of
+  // half its size a face's shape-operator curvature is not the plate's (the discrete shape operator
+  // is consistent on regular meshes only), and on a star's rounds of 1/64 its bending W read 4× the
+  // rim's peak there.
   std::vector<bool> off_rim(size_t(nf), true);
   for (int f = 0; f < nf; ++f) {
     const Vec3 c = (X.row(tiled.faces()(centre + f, 0)) + X.row(tiled.faces()(centre + f, 1)) +
                     X.row(tiled.faces()(centre + f, 2))).transpose() / 3.0;
+    for (const Vec3& q : rounds)
+      if ((c - q).norm() <= round_zone) {
+        off_rim[size_t(f)] = false;
+        break;
+      }
+    if (!off_rim[size_t(f)]) continue;
     for (const RimPoint& p : rim[0])
       if ((c - p.position).norm() <= p.patch_radius) {
         off_rim[size_t(f)] = false;
@@ -489,6 +676,10 @@ void stress_concentration(const SurfaceMesh& cell, const ShellModel& model, cons
 
 }  // namespace
 
+bool tool_changes_cell(const StencilShape& shape, double tool_radius) {
+  return !cell_hole(shape, tool_radius).rounds.empty();
+}
+
 Eigen::Matrix3d solid_membrane_stiffness(const Material& m) {
   const double nu = m.poisson_ratio;
   return isotropic_voigt(m.youngs_modulus * m.thickness / (1 - nu * nu), nu);
@@ -523,6 +714,10 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
     throw InputError("homogenisation: the cell resolution must be in [6, 200] edges per lattice spacing");
   if (!(options.rim_edges >= 0 && options.rim_edges <= 64))
     throw InputError("homogenisation: rim_edges must be in [0, 64] edges per stencil bounding radius");
+  if (!(options.tool_radius >= 0 && options.tool_radius <= 1))
+    throw InputError("homogenisation: the tool radius must be in [0, 1] stencil bounding radii");
+  if (!(options.round_edges >= 2 && options.round_edges <= 32))
+    throw InputError("homogenisation: round_edges must be in [2, 32] edges per tool radius");
   const LatticeGeometry L(options.lattice);
   const double lowest = 1 - max_hole_fraction(shape, 0.1, options.lattice);
   if (!(fill_ratio >= lowest && fill_ratio <= 1))
@@ -539,7 +734,9 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   const double resolution =
       std::min(200.0, std::max({options.resolution, kLigamentElements / (1 - 2 * out.scale), out.scale > 0 ? options.rim_edges / out.scale : 0.0}));
   out.resolution = resolution;
-  const SurfaceMesh cell = period_cell(L, shape, out.scale, int(std::lround(resolution)), options.remesh_iterations);
+  const CellHole hole = cell_hole(shape, options.tool_radius);
+  const SurfaceMesh cell = period_cell(L, hole, out.scale, int(std::lround(resolution)),
+                                       options.remesh_iterations, options.tool_radius, options.round_edges);
   out.vertices = cell.num_vertices();
   out.faces = cell.num_faces();
   out.window_fill_ratio = cell.face_areas().sum() / L.area;
@@ -592,7 +789,15 @@ CellStiffness homogenise_cell(const StencilShape& shape, const Material& materia
   out.bending_bulk_factor = b[0] / b0[0], out.bending_shear_factor = b[1] / b0[1];
   out.membrane_anisotropy = lattice_anisotropy(out.membrane);
   out.bending_anisotropy = lattice_anisotropy(out.bending);
-  stress_concentration(cell, model, period, centre, elements, fluctuation, out);
+  // The rounds' points of the centre hole and its eight neighbours (those within the zone of the
+  // centre cell's faces), in the tiled cell's coordinates (the centre copy's are the cell's).
+  std::vector<Vec3> rounds;
+  for (int m = -1; m <= 1; ++m)
+    for (int k = -1; k <= 1; ++k)
+      for (const Vec2& q : hole.rounds)
+        rounds.push_back(0.5 * (L.a1 + L.a2) + double(m) * L.a1 + double(k) * L.a2 + out.scale * Vec3(q.x(), q.y(), 0));
+  stress_concentration(cell, model, period, centre, elements, fluctuation, rounds,
+                       round_zone(options.tool_radius * out.scale, int(std::lround(resolution)), options.round_edges), out);
   return out;
 }
 

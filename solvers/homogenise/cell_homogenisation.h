@@ -62,6 +62,14 @@ struct CellOptions {
   /// 200 per spacing) so that the rim recovery resolves the hole ("Reading the peak" below). 0: off.
   double rim_edges = 16;
   CellLattice lattice = CellLattice::Hexagonal;
+  /// The hole as a tool of this radius cuts it (stencil bounding radii, in [0, 1]; 0: as drawn):
+  /// the shape's polygon opened by the disc (host/stencil/stencil_opening.h; a hole the tool
+  /// cannot cut at all is no hole), at the scale of the drawn shape at the fill ratio asked, and
+  /// the cell refined about the tool's rounds to `round_edges` target edges per round radius ("The
+  /// tool's rounds" above).
+  double tool_radius = 0;
+  /// Target edges per tool radius on the rounds, in [2, 32].
+  double round_edges = 12;
 };
 
 /// Stress concentration in one macroscopic state of the cell (issue 21 item 5). A state is a
@@ -113,6 +121,24 @@ struct CellOptions {
 /// corner (physical: 30° within a quarter of it). The cell does not know the design's stencil
 /// size, so it reads K at every corner node ε_c (the rule's radius in the stencil's bounding radii)
 /// and W_peak takes the node of each face's stencils, ε = g/s (peak_energy_density.h).
+///
+/// The tool's rounds (CellOptions::tool_radius τ). A part is cut by a tool of radius r, which rounds
+/// every corner of a hole that turns into the material to radius r (stencil_opening.h); its peak is
+/// finite and converges (cutwork verify --tool-radius). The cell then carries the opened hole: the
+/// drawn shape's scale s at the fill ratio asked (α names the drawn outline, as the coarse model's
+/// fill ratios do; the cell's own material fraction, window_fill_ratio, is what the tool leaves),
+/// its polygon opened by τ = r/s, and the faces within two round radii of the rounds halved (the
+/// peak zoom's focus passes, isotropic_remesh.h refine_about; the rounds of the eight neighbouring
+/// holes are centres too, so a round that crosses a side is refined on both; a side vertex the
+/// refinement left without its translated copy then splits the opposite side's edge, so that the
+/// sides stay copies) down to τ s / round_edges. Every rim point is read (the tool leaves no corner
+/// that turns into the material), and the faces the rounds graded are left to the rim as the faces
+/// within a rim point's patch are (their shape-operator curvature next to faces of half their size
+/// read a star's bending K 4× the rim's). A shape without a corner sharp at τ (a circle), or one no
+/// disc of τ fits in (kept as drawn, as verify keeps it), is its drawn cell. Measured on the default
+/// star at α = 0.75, uniaxial K_m at τ = 1/64: 264, 294, 298 at 6, 12, 24 edges per round radius
+/// (bending 49.6, 52.6, 53.9); at 1/8: 32.8, 35.1, 35.7 (bending 9.2, 9.9, 10.1). 1.7–2.1 s a cell
+/// at 12 (bench BM_ToolCell; the drawn cell 0.13 s).
 /// Angles of the biaxial states of CellStiffness's concentration by biaxiality, over 180°.
 inline constexpr int kBiaxialityAngles = 24;
 
@@ -162,6 +188,11 @@ struct CellStiffness {
 /// within (1 − ligament) of the (Voronoi) cell's inscribed circle (radius ½ spacing on both lattices).
 double max_hole_fraction(const StencilShape& shape, double ligament = 0.1,
                          CellLattice lattice = CellLattice::Hexagonal);
+
+/// Whether the cell of `shape` cut by a tool of radius `tool_radius` bounding radii differs from its
+/// drawn cell ("The tool's rounds": some point of the opening lies farther than τ/20 from the drawn
+/// outline); when not, homogenise_cell with that tool is the drawn cell.
+bool tool_changes_cell(const StencilShape& shape, double tool_radius);
 
 /// Homogenised stiffness of `shape` perforating a sheet of `material` down to fill ratio α ∈
 /// [1 − max_hole_fraction, 1]. Throws InputError for α outside that range or bad options.

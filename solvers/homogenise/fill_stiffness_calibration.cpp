@@ -28,8 +28,8 @@ struct ShapeCurve {
   std::vector<double> membrane_anisotropy, bending_anisotropy;  ///< q (the square lattice's)
 };
 
-/// Polygon, ν, resolution, rim edges, lattice, and the fill ratios sampled.
-using CacheKey = std::tuple<std::vector<double>, double, double, double, int, std::vector<double>>;
+/// Polygon, ν, resolution, rim edges, lattice, the fill ratios sampled, and whether by the tool.
+using CacheKey = std::tuple<std::vector<double>, double, double, double, int, std::vector<double>, bool>;
 
 /// The ratios of one sample, in ShapeCurve's order: membrane, bending, then the split's four.
 using SampleRatios = std::array<double, 6>;
@@ -43,8 +43,34 @@ void push_ratios(ShapeCurve& c, const SampleRatios& r) {
   c.bending_shear.push_back(r[5]);
 }
 
+/// The factors of `shape`'s holes as a tool cuts them at fill ratio α (FillStiffnessCurve::tool_cut):
+/// per tool node τ_c the cell of the hole opened by τ_c (cell_homogenisation.h, "The tool's
+/// rounds"), its K by biaxiality; a node at which the tool leaves the cell as drawn (a smooth
+/// shape, one no disc of τ_c fits, or one it changes by less than τ_c/20: tool_changes_cell) takes
+/// the drawn cell's (`drawn`), which is what that cell would be. kToolNodes × kBiaxialityNodes
+/// values each, node major.
+void tool_factors(const StencilShape& shape, const Material& material, const CellOptions& options, double alpha,
+                  const CellStiffness& drawn, std::vector<double>& membrane, std::vector<double>& bending) {
+  membrane.clear();
+  bending.clear();
+  for (int c = 0; c < kToolNodes; ++c) {
+    const bool changed = tool_changes_cell(shape, tool_node(c));
+    CellStiffness cut;
+    if (changed) {
+      CellOptions o = options;
+      o.tool_radius = tool_node(c);
+      cut = homogenise_cell(shape, material, alpha, o);
+    }
+    const CellStiffness& cell = changed ? cut : drawn;
+    membrane.insert(membrane.end(), cell.membrane_concentration_by_biaxiality.begin(),
+                    cell.membrane_concentration_by_biaxiality.end());
+    bending.insert(bending.end(), cell.bending_concentration_by_biaxiality.begin(),
+                   cell.bending_concentration_by_biaxiality.end());
+  }
+}
+
 ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options,
-                           const std::vector<double>& grid) {
+                           const std::vector<double>& grid, bool tool_cut) {
   const double lowest = 1 - max_hole_fraction(shape, 0.1, options.lattice);
   // The cells, one per distinct fill ratio (the grid's points below the lowest one share it), one
   // after the other: two cells factorised at once are not reproducible to the last digits (see
@@ -55,6 +81,26 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
       cut.push_back(std::max(alpha, lowest));
   std::vector<CellStiffness> cells;
   for (const double a : cut) cells.push_back(homogenise_cell(shape, material, a, options));
+  if (tool_cut)
+    // The factors become the tool's: by corner its nodes', and the plain ones its smallest round's
+    // (node 0, the largest K; what a face of no known shape or radius reads).
+    for (size_t k = 0; k < cut.size(); ++k) {
+      CellStiffness& cell = cells[k];
+      std::vector<double> membrane, bending;
+      tool_factors(shape, material, options, cut[k], cell, membrane, bending);
+      cell.membrane_concentration_by_corner = std::move(membrane);
+      cell.bending_concentration_by_corner = std::move(bending);
+      const auto node0 = [](const std::vector<double>& table) {
+        return std::vector<double>(table.begin(), table.begin() + kBiaxialityNodes);
+      };
+      cell.membrane_concentration_by_biaxiality = node0(cell.membrane_concentration_by_corner);
+      cell.bending_concentration_by_biaxiality = node0(cell.bending_concentration_by_corner);
+      cell.membrane_concentration = *std::max_element(cell.membrane_concentration_by_biaxiality.begin(),
+                                                      cell.membrane_concentration_by_biaxiality.end());
+      cell.bending_concentration = *std::max_element(cell.bending_concentration_by_biaxiality.begin(),
+                                                     cell.bending_concentration_by_biaxiality.end());
+    }
+  const int corner_nodes = tool_cut ? kToolNodes : kCornerNodes;
   ShapeCurve c;
   for (double alpha : grid) {
     if (alpha >= 1) {
@@ -67,7 +113,7 @@ ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, 
       for (auto* K : {&c.membrane_concentration_by_biaxiality, &c.bending_concentration_by_biaxiality})
         K->push_back(K->empty() ? std::vector<double>(kBiaxialityNodes, 1.0) : K->back());
       for (auto* K : {&c.membrane_concentration_by_corner, &c.bending_concentration_by_corner})
-        K->push_back(K->empty() ? std::vector<double>(kCornerNodes * kBiaxialityNodes, 1.0) : K->back());
+        K->push_back(K->empty() ? std::vector<double>(size_t(corner_nodes * kBiaxialityNodes), 1.0) : K->back());
       continue;
     }
     // Below the lowest fill ratio the lowest cell (K and q held; the ratios lowered after the loop).
@@ -153,7 +199,7 @@ std::vector<double> shape_weights(const StencilLibrary& shapes, std::span<const 
 }
 
 FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const Material& material,
-                                            const CellOptions& options, std::vector<double> weights) {
+                                            const CellOptions& options, std::vector<double> weights, bool tool_cut) {
   if (shapes.size() < 1) throw InputError("homogenised stiffness: the design has no stencil shape");
   if (weights.empty()) weights.assign(size_t(shapes.size()), 1.0 / shapes.size());
   double total = 0;
@@ -171,6 +217,7 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   FillStiffnessCurve out;
   out.alpha = grid;
   out.shape_weights = weights;
+  out.tool_cut = tool_cut;
   for (std::vector<double>* r : {&out.membrane, &out.bending, &out.membrane_bulk, &out.membrane_shear,
                                   &out.bending_bulk, &out.bending_shear})
     r->assign(grid.size(), 0.0);
@@ -191,7 +238,7 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     std::vector<double> polygon;
     for (const Vec2& p : shape.polygon) polygon.insert(polygon.end(), {p.x(), p.y()});
     const CacheKey key{polygon, material.poisson_ratio, options.resolution, options.rim_edges, int(options.lattice),
-                       grid};
+                       grid, tool_cut};
     // One calibration at a time in the process, the cache looked up again under the lock: a
     // caller that waited finds the curve another computed (a sweep's concurrent variants calibrate
     // once), and no cell is factorised while another is. Two cell problems of 25k DOFs factorised
@@ -201,7 +248,7 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
     std::unique_lock lock(mutex);
     auto it = cache.find(key);
     if (it == cache.end())
-      it = cache.emplace(key, calibrate_shape(shape, canonical_material(material.poisson_ratio), options, grid)).first;
+      it = cache.emplace(key, calibrate_shape(shape, canonical_material(material.poisson_ratio), options, grid, tool_cut)).first;
     const ShapeCurve c = it->second;
     lock.unlock();
     out.shape_concentration[size_t(shape.type)] = {c.membrane_concentration, c.bending_concentration,
@@ -244,7 +291,8 @@ MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, con
   if (m.stiffness == FillStiffness::Homogenised && m.stiffness_curve.empty()) {
     CellOptions options;
     options.lattice = m.lattice == PerforationLattice::Square ? CellLattice::Square : CellLattice::Hexagonal;
-    m.stiffness_curve = calibrate_fill_stiffness(shapes, material, options, shape_weights(shapes, stencils));
+    m.stiffness_curve =
+        calibrate_fill_stiffness(shapes, material, options, shape_weights(shapes, stencils), m.tool_radius > 0);
   }
   return m;
 }

@@ -24,6 +24,9 @@
 /// towards the small ones. Ratios depend on the shapes and on ν only (not on E, h, or the design's
 /// scale).
 ///
+/// With a tool (MechanicsSettings::tool_radius > 0) the shapes' factors are those of the holes the
+/// tool cuts, at the tool nodes (FillStiffnessCurve::tool_cut); the ratios stay the drawn holes'.
+///
 /// Concentration factors K (cell_homogenisation.h) ride on the same cell solves: per sample, the
 /// largest over the shapes of positive weight (what a face's fill ratio alone can say), and each
 /// such shape's own (shape_concentration: W_peak mixes them per face by the shapes' covered
@@ -69,9 +72,12 @@ std::vector<double> shape_weights(const StencilLibrary& shapes, std::span<const 
 
 /// Calibrates the curve for `shapes` (≥ 1) and `material`'s ν, the shapes' ratios averaged with
 /// `weights` (#shapes, ≥ 0, normalised here; empty: equal; a shape of weight 0 is not calibrated).
-/// Thread-safe; memoised per shape.
+/// With `tool_cut` the shapes' factors by corner are the tool's (FillStiffnessCurve::tool_cut: per
+/// distinct cell a cell of the opened hole at each tool node a shape has a corner sharp at, ~1–2 s
+/// each; the ratios are the drawn holes'). Thread-safe; memoised per shape.
 FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const Material& material,
-                                            const CellOptions& options = {}, std::vector<double> weights = {});
+                                            const CellOptions& options = {}, std::vector<double> weights = {},
+                                            bool tool_cut = false);
 
 /// The scene's mechanics, calibrated for its stencil shapes and material (what every shell model of
 /// the scene is built with), the shapes weighted by their share of `stencils` (shape_weights;

@@ -60,7 +60,10 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
   if (m_worst.membrane_states.empty() != m_worst.bending_states.empty())
     throw InputError("concentration by biaxiality: membrane and bending tables must come together");
   int calibrated = 0;
-  bool corners = false;  // a shape whose factors change under the corner rule
+  bool corners = false;  // a shape whose factors change under the corner rule (or the tool)
+  m_tool = c.tool_cut;
+  for (int k = 0; k < (m_tool ? kToolNodes : kCornerNodes); ++k)
+    m_corner_nodes.push_back(m_tool ? tool_node(k) : corner_node(k));
   for (const FillStiffnessCurve::ShapeConcentration& shape : c.shape_concentration) {
     ShapeFactors& by_corner = m_shapes.emplace_back();
     if (shape.empty()) continue;
@@ -76,17 +79,17 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
     if (shape.membrane_by_corner.empty() && shape.bending_by_corner.empty()) continue;
     if (f.membrane_states.empty())
       throw InputError("concentration by corner: a shape's tables by corner need its tables by biaxiality");
-    // Nodes 1 … kCornerNodes − 1 from the tables by corner (node 0 is the tables above); the worst
-    // state's K at a node is its largest over the biaxiality nodes.
+    // Nodes 1 … n − 1 from the tables by corner (node 0 is the tables above); the worst state's K
+    // at a node is its largest over the biaxiality nodes.
     const auto node_table = [&](const std::vector<std::vector<double>>& table, int node, const char* what) {
       if (table.size() != c.alpha.size())
         throw InputError(fmt::format("{} concentration by corner: {} rows for {} fill ratios", what, table.size(),
                                      c.alpha.size()));
       std::vector<std::vector<double>> rows;
       for (const std::vector<double>& row : table) {
-        if (row.size() != size_t(kCornerNodes * kBiaxialityNodes))
+        if (row.size() != m_corner_nodes.size() * kBiaxialityNodes)
           throw InputError(fmt::format("{} concentration by corner: a row of {} factors, not {}", what, row.size(),
-                                       kCornerNodes * kBiaxialityNodes));
+                                       m_corner_nodes.size() * kBiaxialityNodes));
         rows.emplace_back(row.begin() + node * kBiaxialityNodes, row.begin() + (node + 1) * kBiaxialityNodes);
       }
       return rows;
@@ -96,7 +99,7 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
       for (const std::vector<double>& row : rows) worst.push_back(*std::max_element(row.begin(), row.end()));
       return worst;
     };
-    for (int node = 1; node < kCornerNodes; ++node) {
+    for (int node = 1; node < int(m_corner_nodes.size()); ++node) {
       const auto membrane = node_table(shape.membrane_by_corner, node, "a shape's membrane");
       const auto bending = node_table(shape.bending_by_corner, node, "a shape's bending");
       Factors g;
@@ -144,17 +147,33 @@ double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, con
   if (!own) return single(m_worst, bending, alpha, rho, d_alpha, d_rho);
   const ShapeFactors& nodes = m_shapes[size_t(shape)];
   if (nodes.size() == 1) return single(nodes[0], bending, alpha, rho, d_alpha, d_rho);
-  // Linear in ε between the corner nodes, of the factors (and their α- and ρ-slopes) at each; the
-  // slope in ε one-sided (the right interval's) at a node, zero outside (0, 1).
+  // Between the nodes ε_j ≤ ε < ε_(j+1) (clamped to the first and last; the slope in ε one-sided,
+  // the right interval's, at a node and zero outside them): the corner rule's linear in ε, of the
+  // factors and their α- and ρ-slopes at the two nodes; the tool's a power law through the two,
+  // K = K_j^(1−t) K_(j+1)^t with t = ln(ε/ε_j) / ln(ε_(j+1)/ε_j), exact for K ∝ ε^p (a round's
+  // peak energy grows about as 1/ε), which linear over-reads by up to 12% mid-interval.
+  const std::vector<double>& e = m_corner_nodes;
   const int n = int(nodes.size());
-  const double h = corner_node(1), x = std::clamp(epsilon, 0.0, corner_node(n - 1));
-  const int j = std::min(int(x / h), n - 2);
-  const double t = std::clamp(x / h - j, 0.0, 1.0);
+  const double x = std::clamp(epsilon, e.front(), e[size_t(n - 1)]);
+  int j = 0;
+  while (j < n - 2 && x >= e[size_t(j + 1)]) ++j;
+  const double e0 = e[size_t(j)], e1 = e[size_t(j + 1)];
+  const bool inside = epsilon > e.front() && epsilon < e[size_t(n - 1)];
   double a0 = 0, r0 = 0, a1 = 0, r1 = 0;
   const double v0 = single(nodes[size_t(j)], bending, alpha, rho, &a0, &r0);
   const double v1 = single(nodes[size_t(j + 1)], bending, alpha, rho, &a1, &r1);
-  const double value = (1 - t) * v0 + t * v1, da = (1 - t) * a0 + t * a1, dr = (1 - t) * r0 + t * r1;
-  const double de = epsilon > 0 && epsilon < corner_node(n - 1) ? (v1 - v0) / h : 0.0;
+  double value, da, dr, de;
+  if (m_tool) {
+    const double span = std::log(e1 / e0), t = std::clamp(std::log(x / e0) / span, 0.0, 1.0);
+    value = std::pow(v0, 1 - t) * std::pow(v1, t);
+    da = value * ((1 - t) * a0 / v0 + t * a1 / v1);
+    dr = value * ((1 - t) * r0 / v0 + t * r1 / v1);
+    de = inside ? value * std::log(v1 / v0) / (span * x) : 0.0;
+  } else {
+    const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    value = (1 - t) * v0 + t * v1, da = (1 - t) * a0 + t * a1, dr = (1 - t) * r0 + t * r1;
+    de = inside ? (v1 - v0) / (e1 - e0) : 0.0;
+  }
   if (d_alpha) *d_alpha = da;
   if (d_rho) *d_rho = dr;
   if (d_epsilon) *d_epsilon = de;

@@ -91,6 +91,18 @@
 /// by the rule above, is that shape's); a shape without corners (a circle) has the same K at
 /// every node.
 ///
+/// K by the tool. A part cut by a tool of radius r (MechanicsSettings::tool_radius) has no sharp
+/// corner that turns into the material: each is a round of radius r, whose peak is finite, read
+/// at every rim point, and falls about as 1/r (a notch's peak stress about as 1/√ρ: the default
+/// star's uniaxial K_m at α = 0.75 is 294, 145, 73, 35, 16 at τ = 1/64 … 1/4). The curve's factors
+/// by corner are then the tool's (FillStiffnessCurve::tool_cut): the cells of the holes the tool
+/// cuts at τ_c = tool_node(c) = 1/64 … 1/2 bounding radii, and a face reads them at
+/// τ̄_ts = Σ f τ / Σ f, τ = r / (the stencil's scale) (corner_radius = r), by the same machinery
+/// as ε above. Between two nodes a power law through them, K = K_j^(1−t) K_(j+1)^t with
+/// t = ln(τ/τ_j)/ln(τ_(j+1)/τ_j) (exact for K ∝ τ^p; linear in τ over-read 1/τ by up to 12% between
+/// doubling nodes), held below 1/64 (a round smaller than 1/64 of its stencil reads low) and beyond
+/// 1/2 (where no disc of the tool fits in the default star: kept as drawn, as verify keeps it).
+///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
 ///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
 /// with k the blended factors; a = 1, b = 0 at α = 1. The weights w (the cell filter's blend) do not
@@ -114,8 +126,10 @@ inline constexpr const char* kPeakEnergyDensityRule =
     "[0, 0.05]; at the face's biaxiality rho "
     "of stress and of moment: -1 pure shear, 0 uniaxial, 1 equibiaxial; the worst state's K for hinge bending and "
     "uncalibrated states; K ramps to 1 over alpha in [0.95, 1] "
-    "and is 1 at alpha = 1; blended towards 1 where the cell filter says a face resolves its stencils); max over "
-    "material faces";
+    "and is 1 at alpha = 1; blended towards 1 where the cell filter says a face resolves its stencils; a shape with "
+    "sharp corners read at mechanics.corner_radius over each stencil's scale: without a tool the rim within the "
+    "minimum feature of its corners left out, with one (fabrication.tool_radius) the holes as the tool rounds them); "
+    "max over material faces";
 /// What reports say instead when the mechanics carries no concentration samples (W_peak null).
 inline constexpr const char* kPeakEnergyDensityAbsent =
     "not computed: no concentration factors (mechanics.stiffness is not homogenised)";
@@ -159,9 +173,11 @@ class ConcentrationMap {
   /// Shape `shape`'s own factor, membrane or bending, *without* the ramp in α (the rule by shape
   /// ramps by the shape's covered fraction instead), at biaxiality `rho` (null: the worst state's)
   /// and the corner rule's radius `epsilon` (bounding radii, clamped to [0, 1]; the shape's ε = 0
-  /// factors when the curve has none by corner), linear between the corner nodes; the worst over the
-  /// shapes for a shape the curve has no factors of. Slopes as above, dK/dε into `d_epsilon` (the
-  /// right interval's at a node, 0 outside (0, 1)); any may be null.
+  /// factors when the curve has none by corner), linear between the corner nodes — or, on a curve
+  /// by the tool, the tool's radius τ (clamped to [1/64, 1/2], a power law between the nodes); the
+  /// worst over the shapes for a shape the curve has no factors of. Slopes as above, dK/dε into
+  /// `d_epsilon` (the right interval's at a node, 0 outside the first and last nodes); any may be
+  /// null.
   double shape_factor(int shape, bool bending, double alpha, const double* rho, double epsilon, double* d_alpha,
                       double* d_rho, double* d_epsilon = nullptr) const;
   /// r_K(α), r_G(α) of the split (1 each without it, and for α ≥ 1), the α-slopes into `slope`.
@@ -186,6 +202,8 @@ class ConcentrationMap {
   static double single(const Factors& f, bool bending, double alpha, const double* rho, double* d_alpha, double* d_rho);
   Factors m_worst;
   std::vector<ShapeFactors> m_shapes;  ///< by shape type
+  std::vector<double> m_corner_nodes;   ///< ε of the nodes: corner_node(c), or tool_node(c) with m_tool
+  bool m_tool = false;                  ///< the factors by corner are the tool's (FillStiffnessCurve::tool_cut)
   bool m_by_shape = false;
   MonotoneCurve m_membrane_ratio, m_bending_ratio;
   MonotoneCurve m_membrane_bulk, m_membrane_shear, m_bending_bulk, m_bending_shear;  ///< the split's r

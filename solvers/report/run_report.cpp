@@ -124,7 +124,8 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
             j["membrane_concentration_by_biaxiality"] = K.membrane_by_biaxiality;
             j["bending_concentration_by_biaxiality"] = K.bending_by_biaxiality;
           }
-          // Under the corner rule: per sample, corner node major, kBiaxialityNodes per node.
+          // Under the corner rule (or the tool's rounds): per sample, corner node major,
+          // kBiaxialityNodes per node.
           if (!K.membrane_by_corner.empty()) {
             j["membrane_concentration_by_corner"] = K.membrane_by_corner;
             j["bending_concentration_by_corner"] = K.bending_by_corner;
@@ -134,11 +135,15 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
       if (!c.shape_weights.empty()) r["mechanics"]["stiffness_curve"]["shape_weights"] = weights;
       if (!by_shape.empty()) {
         r["mechanics"]["stiffness_curve"]["concentration_by_shape"] = by_shape;
-        // The corner rule's radius (m) and its nodes in stencil bounding radii.
+        // The radius (m) the factors by corner are read at, its nodes in stencil bounding radii, and
+        // what they are: the corner rule's about sharp corners, or the tool's rounds.
         std::vector<double> nodes;
-        for (int k = 0; k < kCornerNodes; ++k) nodes.push_back(corner_node(k));
+        for (int k = 0; k < (c.tool_cut ? kToolNodes : kCornerNodes); ++k)
+          nodes.push_back(c.tool_cut ? tool_node(k) : corner_node(k));
         r["mechanics"]["stiffness_curve"]["corner_nodes"] = nodes;
+        r["mechanics"]["stiffness_curve"]["corner_factors"] = c.tool_cut ? "tool" : "corner_rule";
         r["mechanics"]["corner_radius"] = mechanics.corner_radius;
+        r["mechanics"]["tool_radius"] = mechanics.tool_radius;
       }
     }
   }

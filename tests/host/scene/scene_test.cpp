@@ -71,6 +71,15 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   d["fabrication"] = {{"tool_radius", 0.0005}};
   EXPECT_EQ(parse_scene(d, "test").fabrication.tool_radius, 0.0005);
   EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["fabrication"]["tool_radius"], 0.0005);
+  // W_peak reads its factors by corner at the tool's rounds with a tool, at the minimum feature
+  // (the corner rule) without one (MechanicsSettings::corner_radius, tool_radius).
+  Scene cut = parse_scene(d, "test");
+  EXPECT_EQ(cut.mechanics.tool_radius, 0.0005);
+  EXPECT_EQ(cut.mechanics.corner_radius, 0.0005);
+  set_tool_radius(cut, 0);
+  EXPECT_EQ(cut.fabrication.tool_radius, 0.0);
+  EXPECT_EQ(cut.mechanics.tool_radius, 0.0);
+  EXPECT_EQ(cut.mechanics.corner_radius, cut.fabrication.min_feature);
   d = minimal_scene();
   d["structure"] = {{"beta", 1.5}};
   expect_rejected(d, {"/structure/beta", "(0, 1]"});

@@ -11,6 +11,7 @@
 
 #include "solvers/homogenise/cell_homogenisation.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
+#include "host/core/error.h"
 #include "tests/solvers/support/shell_fixtures.h"
 
 namespace cutwork::solvers {
@@ -222,6 +223,139 @@ TEST(StressConcentration, TheCornerRuleLeavesTheSingularCornersOut) {
   const CellStiffness star = homogenise_cell(make_builtin_stencil("star", {}, "star"), m, 0.75);
   EXPECT_LT(node(star.membrane_concentration_by_corner, 1, (kBiaxialityNodes - 1) / 2),
             0.9 * node(star.membrane_concentration_by_corner, 0, (kBiaxialityNodes - 1) / 2));
+}
+
+// A tool as wide as a regular hexagon's inscribed circle cuts that circle (the opening is the union
+// of the discs that fit: one, less a thousandth): the cell of the tool's hole at dilute α reads
+// Kirsch's and Goodier's circle, where the drawn hexagon's 60° corners are singular. The rounds'
+// refinement (12 edges per tool radius) puts ~21 edges on the circle's radius (the drawn circle's
+// cell above has 10.5 at the resolution cap). Measured: membrane uniaxial 8.64, equibiaxial 3.26,
+// shear 5.46 (−4.0%, −2.3%, −4.5%; the drawn circle's −5.2%, −1.7%, −5.8%), bending uniaxial 3.27
+// (−1.7%); the drawn hexagon's uniaxial K_m 13.0.
+TEST(StressConcentration, AToolAsWideAsAHexagonsInscribedCircleCutsKirschsHole) {
+  const Material m = test::pa12();
+  const double nu = m.poisson_ratio;
+  std::vector<Vec2> hexagon;
+  for (int k = 0; k < 6; ++k)
+    hexagon.emplace_back((1 - 1e-12) * std::cos(k * std::numbers::pi / 3), (1 - 1e-12) * std::sin(k * std::numbers::pi / 3));
+  const StencilShape hex = shape_in_reference_frame("hexagon", "polygon", hexagon);
+  CellOptions o;
+  o.resolution = 96;
+  o.tool_radius = 0.999 * std::cos(std::numbers::pi / 6);
+  const CellStiffness cut = homogenise_cell(hex, m, 0.99, o);
+  // The tool's hole is the inscribed disc: π (√3/2)² against the hexagon's 3√3/2, of the cell's
+  // hole fraction 0.01.
+  const double hole = 0.01 * std::numbers::pi * 0.75 / (1.5 * std::sqrt(3.0));
+  EXPECT_NEAR(1 - cut.window_fill_ratio, hole, 0.01 * hole);
+  const double goodier = std::pow((5 + 3 * nu) / (3 + nu), 2);
+  const struct {
+    const std::vector<ConcentrationState>* states;
+    const char* name;
+    double closed;
+  } rows[] = {{&cut.membrane_states, "uniaxial", 9.0},
+              {&cut.membrane_states, "equibiaxial", 2 / (1 - nu)},
+              {&cut.membrane_states, "shear", 8 / (1 + nu)},
+              {&cut.bending_states, "uniaxial", goodier}};
+  for (const auto& r : rows) {
+    const double k = mean_factor(*r.states, r.name);
+    std::cout << "hexagon cut by its inscribed circle, " << (r.states == &cut.membrane_states ? "membrane " : "bending ")
+              << r.name << ": K " << k << " (closed form " << r.closed << ", " << 100 * (k / r.closed - 1) << "%)\n";
+    EXPECT_NEAR(k, r.closed, 0.06 * r.closed) << r.name;
+  }
+  // As drawn its corners are singular: the rim next to them reads more than Kirsch.
+  o.tool_radius = 0;
+  const CellStiffness drawn = homogenise_cell(hex, m, 0.99, o);
+  std::cout << "the drawn hexagon: uniaxial K_m " << mean_factor(drawn.membrane_states, "uniaxial") << "\n";
+  EXPECT_GT(drawn.membrane_concentration, 1.1 * cut.membrane_concentration);
+}
+
+// The tool's rounds (CellOptions::tool_radius) on the default star at α = 0.75: the factors converge
+// as the rounds are refined (12 against 24 edges per tool radius), and fall about as 1/τ as the
+// round grows (a notch's peak stress about as 1/√ρ, Neuber); the tool leaves material at the tips,
+// so the cell's material fraction and its stiffness rise with τ.
+// Measured: uniaxial K_m 72.6, 35.1, 16.0 at τ = 1/16, 1/8, 1/4 (35.7 at 24 edges); K_b 16.6, 9.9, 5.4.
+TEST(StressConcentration, AToolsRoundsConvergeAndTheirPeakFallsAsTheyGrow) {
+  const Material m = test::pa12();
+  const StencilShape star = make_builtin_stencil("star", {}, "star");
+  const auto cell = [&](double tau, double edges) {
+    CellOptions o;
+    o.tool_radius = tau;
+    o.round_edges = edges;
+    return homogenise_cell(star, m, 0.75, o);
+  };
+  const CellStiffness a = cell(1.0 / 16, 12), b = cell(1.0 / 8, 12), c = cell(1.0 / 4, 12), fine = cell(1.0 / 8, 24);
+  const CellStiffness drawn = homogenise_cell(star, m, 0.75);
+  std::cout << "star at alpha 0.75, K_m / K_b at tau 1/16, 1/8, 1/4: " << a.membrane_concentration << " / "
+            << a.bending_concentration << ", " << b.membrane_concentration << " / " << b.bending_concentration << ", "
+            << c.membrane_concentration << " / " << c.bending_concentration << "; at 1/8 with 24 edges "
+            << fine.membrane_concentration << " / " << fine.bending_concentration << "\n";
+  EXPECT_NEAR(b.membrane_concentration, fine.membrane_concentration, 0.04 * fine.membrane_concentration);
+  EXPECT_NEAR(b.bending_concentration, fine.bending_concentration, 0.06 * fine.bending_concentration);
+  for (const auto& [small, large] : {std::pair(&a, &b), std::pair(&b, &c)}) {
+    EXPECT_GT(small->membrane_concentration / large->membrane_concentration, 1.6);
+    EXPECT_LT(small->membrane_concentration / large->membrane_concentration, 2.4);
+    EXPECT_GT(small->bending_concentration, large->bending_concentration);
+    EXPECT_LT(small->window_fill_ratio, large->window_fill_ratio);
+    EXPECT_LT(small->membrane_factor, large->membrane_factor);
+  }
+  EXPECT_NEAR(drawn.window_fill_ratio, 0.75, 1e-3);
+  EXPECT_GT(a.window_fill_ratio, drawn.window_fill_ratio);
+  // The rounds are refined: the cell at τ = 1/16 has several times the drawn cell's faces.
+  EXPECT_GT(a.faces, 3 * drawn.faces);
+  CellOptions bad;
+  bad.tool_radius = 1.5;
+  EXPECT_THROW(homogenise_cell(star, m, 0.75, bad), InputError);
+  bad.tool_radius = 0.1;
+  bad.round_edges = 1;
+  EXPECT_THROW(homogenise_cell(star, m, 0.75, bad), InputError);
+}
+
+// The calibration by the tool (FillStiffnessCurve::tool_cut): the star's factors by corner are its
+// tool cells' at the tool nodes, falling with τ, its plain factors node 0's; the circle, which no
+// tool of these radii changes, the same at every node; the stiffness ratios the drawn holes'.
+TEST(StressConcentration, CalibrationByTheToolCarriesTheRoundsFactors) {
+  StencilLibrary shapes;
+  shapes.add(circle());
+  shapes.add(make_builtin_stencil("star", {}, "star"));
+  CellOptions o;  // coarse cells: the test is of what the curve carries
+  o.resolution = 12;
+  o.rim_edges = 8;
+  o.round_edges = 6;
+  const FillStiffnessCurve drawn = calibrate_fill_stiffness(shapes, test::pa12(), o);
+  const FillStiffnessCurve tool = calibrate_fill_stiffness(shapes, test::pa12(), o, {}, true);
+  EXPECT_FALSE(drawn.tool_cut);
+  ASSERT_TRUE(tool.tool_cut);
+  EXPECT_EQ(tool.membrane, drawn.membrane);
+  EXPECT_EQ(tool.bending, drawn.bending);
+  EXPECT_EQ(tool.membrane_bulk, drawn.membrane_bulk);
+  const size_t n = tool.alpha.size();
+  const int uniaxial = (kBiaxialityNodes - 1) / 2;
+  for (int s = 0; s < 2; ++s) {
+    const FillStiffnessCurve::ShapeConcentration& K = tool.shape_concentration[size_t(s)];
+    ASSERT_EQ(K.membrane_by_corner.size(), n);
+    for (size_t k = 0; k + 1 < n; ++k) {
+      const std::vector<double>& row = K.membrane_by_corner[k];
+      ASSERT_EQ(row.size(), size_t(kToolNodes * kBiaxialityNodes));
+      EXPECT_EQ(std::vector<double>(row.begin(), row.begin() + kBiaxialityNodes), K.membrane_by_biaxiality[k]);
+      const auto at = [&](int c) { return row[size_t(c * kBiaxialityNodes + uniaxial)]; };
+      if (s == 0)
+        for (int c = 0; c < kToolNodes; ++c) EXPECT_EQ(at(c), at(0)) << "a circle is not changed by the tool";
+      else
+        for (int c = 0; c + 2 < kToolNodes; ++c)  // up to τ = 1/4; at 1/2 no disc fits, kept as drawn
+          EXPECT_GT(at(c), 1.3 * at(c + 1)) << "alpha " << tool.alpha[k] << " node " << c;
+    }
+    if (s == 0) {
+      EXPECT_EQ(K.membrane_by_biaxiality, drawn.shape_concentration[0].membrane_by_biaxiality);
+    } else {
+      // At its lowest fill ratio (0.656) the star crosses the cell's sides and its rounds are refined
+      // on both (match_sides): its factors there are of the order of the next sample's, not 10⁵.
+      const size_t lowest = size_t(std::find(tool.alpha.begin(), tool.alpha.end(), 0.75) - tool.alpha.begin()) - 1;
+      EXPECT_LT(K.bending[lowest], 2 * K.bending[lowest + 1]);
+      EXPECT_LT(K.membrane[lowest], 2 * K.membrane[lowest + 1]);
+      // The smallest round concentrates far more than the drawn cell's rim reads at its resolution.
+      EXPECT_GT(K.membrane[n - 2], 3 * drawn.shape_concentration[1].membrane[n - 2]);
+    }
+  }
 }
 
 TEST(StressConcentration, ConcurrentCallersCalibrateOnceAndGetOneCurve) {

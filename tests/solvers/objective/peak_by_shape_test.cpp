@@ -54,23 +54,27 @@ struct TwoShapes {
           // Shape 1 has corners: its factors fall with the corner rule's radius ε, towards half
           // their excess at ε = 1; shape 0 (a circle) has the same at every node.
           if (corners) {
-            k.membrane_by_corner = by_corner(k.membrane_by_biaxiality, s == 1);
-            k.bending_by_corner = by_corner(k.bending_by_biaxiality, s == 1);
+            k.membrane_by_corner = by_corner(k.membrane_by_biaxiality, s == 1, tool);
+            k.bending_by_corner = by_corner(k.bending_by_biaxiality, s == 1, tool);
           }
         }
         c.shape_concentration.push_back(k);
       }
+    c.tool_cut = corners && tool;
     return c;
   }
 
   /// Tables by corner node from tables by biaxiality: K_c = 1 + (K − 1)(1 − ε_c(1 − ε_c/2)) where
-  /// `falls`, K otherwise.
-  static std::vector<std::vector<double>> by_corner(const std::vector<std::vector<double>>& table, bool falls) {
+  /// `falls`, K otherwise; by the tool's nodes (`tool`), K_c = 1 + (K − 1)(τ_0/τ_c)^0.8, a round's
+  /// peak falling about as 1/τ.
+  static std::vector<std::vector<double>> by_corner(const std::vector<std::vector<double>>& table, bool falls,
+                                                    bool tool) {
     std::vector<std::vector<double>> out;
     for (const std::vector<double>& row : table) {
       std::vector<double> r;
-      for (int c = 0; c < kCornerNodes; ++c) {
-        const double e = corner_node(c), f = falls ? 1 - e * (1 - 0.5 * e) : 1.0;
+      for (int c = 0; c < (tool ? kToolNodes : kCornerNodes); ++c) {
+        const double e = corner_node(c);
+        const double f = !falls ? 1.0 : tool ? std::pow(tool_node(0) / tool_node(c), 0.8) : 1 - e * (1 - 0.5 * e);
         for (const double k : row) r.push_back(1 + (k - 1) * f);
       }
       out.push_back(r);
@@ -79,6 +83,7 @@ struct TwoShapes {
   }
 
   bool corners = false;  ///< give shape 1 tables by corner (with by_state)
+  bool tool = false;     ///< … the tool's, at tool_node(c) (FillStiffnessCurve::tool_cut)
 };
 
 /// A cover from covered fractions h, with corner moments h·ε̄ when `epsilon` is given (#F × 2).
@@ -220,15 +225,17 @@ ShapeCover unflat(const Eigen::VectorXd& v, const ShapeCover& like) {
 // weights, for the worst state's K and K by biaxiality, and with shape 1's factors by corner at
 // radii ε̄ between the nodes, on them and beyond the last.
 TEST(PeakByShape, VectorJacobianProductsMatchCentralDifferences) {
-  for (bool corners : {false, true})
+  for (int corner_mode : {0, 1, 2})  // none, the corner rule's, the tool's
     for (bool by_state : {false, true})
       for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
+        const bool corners = corner_mode > 0, tool = corner_mode == 2;
         if (corners && !by_state) continue;  // tables by corner come with tables by biaxiality
         SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
         SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
-        SCOPED_TRACE(corners ? "K by corner" : "ε = 0");
+        SCOPED_TRACE(tool ? "K by the tool" : corners ? "K by corner" : "ε = 0");
         TwoShapes shapes;
         shapes.corners = corners;
+        shapes.tool = tool;
         test::CapFixture fx(74, bending, FillStiffness::Homogenised);
         const ShellModel model = with_curve(fx, shapes.curve(by_state));
         const ConcentrationMap K(model.mechanics().stiffness_curve);
@@ -245,8 +252,9 @@ TEST(PeakByShape, VectorJacobianProductsMatchCentralDifferences) {
           share[t] = std::min(share[t], 1.0);
           c[t] = n(rng);
           w[t] = t % 7 == 0 ? 0.0 : u(rng);
-          epsilon(t, 0) = 1.2 * u(rng);
-          epsilon(t, 1) = 1.2 * u(rng);
+          // Below the tool's first node (1/64), between its nodes and beyond its last (1/2).
+          epsilon(t, 0) = tool ? std::exp(std::log(0.008) + std::log(80.0) * u(rng)) : 1.2 * u(rng);
+          epsilon(t, 1) = tool ? std::exp(std::log(0.008) + std::log(80.0) * u(rng)) : 1.2 * u(rng);
         }
         const ShapeCover h = make_cover(split_cover(alpha, share), corners ? &epsilon : nullptr);
         const Eigen::VectorXd* no_weight = nullptr;
@@ -322,6 +330,49 @@ TEST(PeakByShape, FactorsByCornerInterpolateTheNodes) {
   one = curve;
   one.shape_concentration[1] = {};
   EXPECT_FALSE(ConcentrationMap(one).by_shape());
+}
+
+// K by the tool: at the nodes τ_c the tables, a power law between two (the geometric mean at their
+// geometric mean), held below the first node and beyond the last; the slope in τ against central
+// differences; a shape the tool does not change the same at every τ.
+TEST(PeakByShape, FactorsByTheToolFollowAPowerLawBetweenTheNodes) {
+  TwoShapes shapes;
+  shapes.corners = shapes.tool = true;
+  const FillStiffnessCurve curve = shapes.curve(true);
+  ASSERT_TRUE(curve.tool_cut);
+  const ConcentrationMap K(curve);
+  EXPECT_TRUE(K.by_shape());
+  const double a = curve.alpha[2], rho = biaxiality_node(3);
+  for (int part = 0; part < 2; ++part) {
+    const bool bending = part == 1;
+    const auto& row = (part == 0 ? curve.shape_concentration[1].membrane_by_corner
+                                 : curve.shape_concentration[1].bending_by_corner)[2];
+    ASSERT_EQ(row.size(), size_t(kToolNodes * kBiaxialityNodes));
+    const auto at = [&](int node) { return row[size_t(node * kBiaxialityNodes + 3)]; };
+    for (int node = 0; node < kToolNodes; ++node)
+      EXPECT_NEAR(K.shape_factor(1, bending, a, &rho, tool_node(node), nullptr, nullptr), at(node), 1e-12) << node;
+    for (int node = 0; node + 1 < kToolNodes; ++node)
+      EXPECT_NEAR(K.shape_factor(1, bending, a, &rho, std::sqrt(tool_node(node) * tool_node(node + 1)), nullptr, nullptr),
+                  std::sqrt(at(node) * at(node + 1)), 1e-12) << node;
+    EXPECT_EQ(K.shape_factor(1, bending, a, &rho, 0.002, nullptr, nullptr), at(0));
+    EXPECT_EQ(K.shape_factor(1, bending, a, &rho, 0.9, nullptr, nullptr), at(kToolNodes - 1));
+    for (const double e : {0.0, 0.01, 0.1, 0.7})
+      EXPECT_NEAR(K.shape_factor(0, bending, a, &rho, e, nullptr, nullptr),
+                  K.shape_factor(0, bending, a, &rho, 0.05, nullptr, nullptr), 1e-12);
+    for (const double e : {0.02, 0.05, 0.11, 0.4}) {
+      double slope = 0;
+      K.shape_factor(1, bending, a, &rho, e, nullptr, nullptr, &slope);
+      const double d = 1e-7;
+      const double fd = (K.shape_factor(1, bending, a, &rho, e + d, nullptr, nullptr) -
+                         K.shape_factor(1, bending, a, &rho, e - d, nullptr, nullptr)) / (2 * d);
+      EXPECT_LT(slope, 0) << "τ " << e;
+      EXPECT_NEAR(slope, fd, 1e-6 * std::max(1.0, std::abs(fd))) << "τ " << e;
+    }
+  }
+  // Tables of the corner rule's size on a tool's curve are refused.
+  FillStiffnessCurve wrong = curve;
+  wrong.tool_cut = false;
+  EXPECT_THROW(ConcentrationMap{wrong}, InputError);
 }
 
 // The peak objective carries ∂S/∂(cover) (ObjectiveTerms::d_cover) when it is given a cover and
