@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include "solvers/homogenise/cell_homogenisation.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "host/core/error.h"
@@ -308,6 +310,38 @@ TEST(StressConcentration, AToolsRoundsConvergeAndTheirPeakFallsAsTheyGrow) {
   bad.tool_radius = 0.1;
   bad.round_edges = 1;
   EXPECT_THROW(homogenise_cell(star, m, 0.75, bad), InputError);
+}
+
+// Cells of holes a tool cut where they cross the period cell's sides (their lowest fill ratios),
+// each once broken: the default ellipse opened by half its size ends its arcs on the grid's middle
+// line, and two rim vertices 2e-10 apart were welded into one ("face repeats vertex"); the leaf at
+// a quarter the same; the heart at α = 0.56 kept faces of 1e-9 of the cell beside the cut's short
+// pieces, and its stiffness was not positive definite (at 1/16 and 1/10 its bending K read 246 and
+// 544). Each now reads factors of the order of the same tool's at a fill ratio whose hole stays
+// inside the cell.
+TEST(StressConcentration, AToolsCellsWhereTheHolesCrossTheSides) {
+  const Material m = test::pa12();
+  struct Case {
+    const char* kind;
+    double tool, alpha, inside;
+  };
+  for (const Case& c : {Case{"ellipse", 0.5, 0, 0.75}, Case{"leaf", 0.25, 0, 0.75}, Case{"heart", 0.125, 0.56, 0.6},
+                        Case{"heart", 1.0 / 16, 0.56, 0.6}}) {
+    SCOPED_TRACE(fmt::format("{} at tool {}", c.kind, c.tool));
+    const StencilShape shape = make_builtin_stencil(c.kind, {}, c.kind);
+    CellOptions o;
+    o.tool_radius = c.tool;
+    const double alpha = c.alpha > 0 ? c.alpha : 1 - max_hole_fraction(shape);
+    CellStiffness crossing, inside;
+    ASSERT_NO_THROW(crossing = homogenise_cell(shape, m, alpha, o));
+    inside = homogenise_cell(shape, m, c.inside, o);
+    std::cout << c.kind << " cut at " << c.tool << ": alpha " << alpha << " K_m " << crossing.membrane_concentration
+              << " K_b " << crossing.bending_concentration << "; alpha " << c.inside << " K_m "
+              << inside.membrane_concentration << " K_b " << inside.bending_concentration << "\n";
+    EXPECT_LT(crossing.bending_concentration, 2 * inside.bending_concentration);
+    EXPECT_LT(crossing.membrane_concentration, 2 * inside.membrane_concentration);
+    EXPECT_GT(crossing.membrane_factor, 0);
+  }
 }
 
 // The calibration by the tool (FillStiffnessCurve::tool_cut): the star's factors by corner are its
