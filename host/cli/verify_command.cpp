@@ -433,9 +433,9 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--tool-radius", opts->tool_radius,
                   "radius (m) of the cutter the conforming outline is cut with: each stencil becomes the union of the "
                   "discs of this radius inside it, so the corners that turn into the material (a star's tips) are "
-                  "rounded as a part cut with that tool is, and the rim peak is read on them (default: the scene's "
-                  "fabrication.tool_radius; 0: the outlines as drawn, the rim within fabrication.min_feature of their "
-                  "sharp corners left out)")
+                  "rounded as a part cut with that tool is, and the rim peak is read on them; the coarse W_peak it is "
+                  "compared with reads the tool's rounds too (default: the scene's fabrication.tool_radius; 0: the "
+                  "outlines as drawn, the rim within fabrication.min_feature of their sharp corners left out)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
       ->check(CLI::Range(0, 4096))
