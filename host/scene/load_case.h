@@ -41,7 +41,8 @@ inline constexpr int kCornerNodes = 9;
 inline constexpr double corner_node(int c) { return double(c) / (kCornerNodes - 1); }
 /// Nodes of a shape's concentration by the tool's radius (FillStiffnessCurve::tool_cut), in the
 /// stencil's bounding radii: τ_c = 2^(c − 6), 1/64 to 1/2 (K of a round grows about as 1/τ: K at a
-/// star's tips 294, 145, 73, 35, 16 from 1/64 to 1/4 at α = 0.75).
+/// star's tips 294, 145, 73, 35, 16 from 1/64 to 1/4 at α = 0.75; below 1/64 W_peak goes on with
+/// the first interval's power law: solvers/objective/peak_energy_density.h, "K by the tool").
 inline constexpr int kToolNodes = 6;
 inline constexpr double tool_node(int c) { return 1.0 / double(1 << (kToolNodes - c)); }
 

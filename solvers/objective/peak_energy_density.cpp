@@ -151,10 +151,14 @@ double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, con
   // the right interval's, at a node and zero outside them): the corner rule's linear in ε, of the
   // factors and their α- and ρ-slopes at the two nodes; the tool's a power law through the two,
   // K = K_j^(1−t) K_(j+1)^t with t = ln(ε/ε_j) / ln(ε_(j+1)/ε_j), exact for K ∝ ε^p (a round's
-  // peak energy grows about as 1/ε), which linear over-reads by up to 12% mid-interval.
+  // peak energy grows about as 1/ε), which linear over-reads by up to 12% mid-interval. Below the
+  // tool's first node the first interval's power law goes on, K = K_0 (τ/τ_0)^(−p), its exponent
+  // held to 0 ≤ p ≤ 1: a notch's peak stress grows at most as 1/√ρ (a crack's), and a round whose
+  // K fell as it shrank would be read as the first node's.
   const std::vector<double>& e = m_corner_nodes;
   const int n = int(nodes.size());
-  const double x = std::clamp(epsilon, e.front(), e[size_t(n - 1)]);
+  const bool below = m_tool && epsilon < e.front() && epsilon > 0;
+  const double x = below ? epsilon : std::clamp(epsilon, e.front(), e[size_t(n - 1)]);
   int j = 0;
   while (j < n - 2 && x >= e[size_t(j + 1)]) ++j;
   const double e0 = e[size_t(j)], e1 = e[size_t(j + 1)];
@@ -164,11 +168,16 @@ double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, con
   const double v1 = single(nodes[size_t(j + 1)], bending, alpha, rho, &a1, &r1);
   double value, da, dr, de;
   if (m_tool) {
-    const double span = std::log(e1 / e0), t = std::clamp(std::log(x / e0) / span, 0.0, 1.0);
-    value = std::pow(v0, 1 - t) * std::pow(v1, t);
-    da = value * ((1 - t) * a0 / v0 + t * a1 / v1);
-    dr = value * ((1 - t) * r0 / v0 + t * r1 / v1);
-    de = inside ? value * std::log(v1 / v0) / (span * x) : 0.0;
+    // K = K_j exp(t l), l = ln(K_(j+1)/K_j); below the first node l held to [−span, 0] (p in [0, 1]),
+    // and where it is held K is K_0 times a constant: its α- and ρ-slopes are K_0's scaled.
+    const double span = std::log(e1 / e0);
+    const double t = below ? std::log(x / e0) / span : std::clamp(std::log(x / e0) / span, 0.0, 1.0);
+    const double l_free = std::log(v1 / v0), l = below ? std::clamp(l_free, -span, 0.0) : l_free;
+    const bool free = l == l_free;
+    value = free ? std::pow(v0, 1 - t) * std::pow(v1, t) : v0 * std::exp(t * l);
+    da = value * ((free ? 1 - t : 1) * a0 / v0 + (free ? t * a1 / v1 : 0));
+    dr = value * ((free ? 1 - t : 1) * r0 / v0 + (free ? t * r1 / v1 : 0));
+    de = inside || below ? value * l / (span * x) : 0.0;
   } else {
     const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
     value = (1 - t) * v0 + t * v1, da = (1 - t) * a0 + t * a1, dr = (1 - t) * r0 + t * r1;

@@ -100,8 +100,13 @@
 /// τ̄_ts = Σ f τ / Σ f, τ = r / (the stencil's scale) (corner_radius = r), by the same machinery
 /// as ε above. Between two nodes a power law through them, K = K_j^(1−t) K_(j+1)^t with
 /// t = ln(τ/τ_j)/ln(τ_(j+1)/τ_j) (exact for K ∝ τ^p; linear in τ over-read 1/τ by up to 12% between
-/// doubling nodes), held below 1/64 (a round smaller than 1/64 of its stencil reads low) and beyond
-/// 1/2 (where no disc of the tool fits in the default star: kept as drawn, as verify keeps it).
+/// doubling nodes). Below the first node (a round under 1/64 of its stencil: a 0.5 mm tool on
+/// stencils above 32 mm) the first interval's power law goes on, K = K_0 (τ/τ_0)^(−p), with p held to
+/// [0, 1] (a notch's peak stress grows at most as a crack's, 1/√ρ; a first interval that rises is
+/// held at the first node): the star's cells at 1/128 … 1/512 read up to 5.5% below it, the cross's
+/// bending up to 24% above at 1/512 (held at the first node, they read 2–8× above; DESIGN.md "W_peak
+/// by the tool"). Beyond 1/2 the last node is held (where no disc of the tool fits in the default
+/// star: kept as drawn, as verify keeps it).
 ///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
 ///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
@@ -174,10 +179,10 @@ class ConcentrationMap {
   /// ramps by the shape's covered fraction instead), at biaxiality `rho` (null: the worst state's)
   /// and the corner rule's radius `epsilon` (bounding radii, clamped to [0, 1]; the shape's ε = 0
   /// factors when the curve has none by corner), linear between the corner nodes — or, on a curve
-  /// by the tool, the tool's radius τ (clamped to [1/64, 1/2], a power law between the nodes); the
-  /// worst over the shapes for a shape the curve has no factors of. Slopes as above, dK/dε into
-  /// `d_epsilon` (the right interval's at a node, 0 outside the first and last nodes); any may be
-  /// null.
+  /// by the tool, the tool's radius τ (a power law between the nodes, the first interval's below
+  /// 1/64 with its exponent held to [0, 1], held beyond 1/2); the worst over the shapes for a shape
+  /// the curve has no factors of. Slopes as above, dK/dε into `d_epsilon` (the right interval's at
+  /// a node, 0 beyond the last node and, on the corner rule, below the first); any may be null.
   double shape_factor(int shape, bool bending, double alpha, const double* rho, double epsilon, double* d_alpha,
                       double* d_rho, double* d_epsilon = nullptr) const;
   /// r_K(α), r_G(α) of the split (1 each without it, and for α ≥ 1), the α-slopes into `slope`.

@@ -5,9 +5,11 @@
 // continuous between, held beyond ε = 1. And the vector–Jacobian products in the cover (covered
 // fractions and corner moments) with those in x and α against central differences, through the
 // ramp of a shape entering a face.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "host/core/error.h"
@@ -354,12 +356,19 @@ TEST(PeakByShape, FactorsByTheToolFollowAPowerLawBetweenTheNodes) {
     for (int node = 0; node + 1 < kToolNodes; ++node)
       EXPECT_NEAR(K.shape_factor(1, bending, a, &rho, std::sqrt(tool_node(node) * tool_node(node + 1)), nullptr, nullptr),
                   std::sqrt(at(node) * at(node + 1)), 1e-12) << node;
-    EXPECT_EQ(K.shape_factor(1, bending, a, &rho, 0.002, nullptr, nullptr), at(0));
+    // Below the first node the first interval's power law goes on (its exponent here 0.6–0.8);
+    // beyond the last the last node is held.
+    const double p = std::log(at(0) / at(1)) / std::log(2.0);
+    ASSERT_GT(p, 0.3);
+    ASSERT_LT(p, 1.0);
+    for (const double below : {0.25, 0.002 / tool_node(0)})
+      EXPECT_NEAR(K.shape_factor(1, bending, a, &rho, below * tool_node(0), nullptr, nullptr),
+                  at(0) * std::pow(below, -p), 1e-12 * at(0) * std::pow(below, -p)) << below;
     EXPECT_EQ(K.shape_factor(1, bending, a, &rho, 0.9, nullptr, nullptr), at(kToolNodes - 1));
-    for (const double e : {0.0, 0.01, 0.1, 0.7})
+    for (const double e : {0.0, 0.001, 0.01, 0.1, 0.7})
       EXPECT_NEAR(K.shape_factor(0, bending, a, &rho, e, nullptr, nullptr),
                   K.shape_factor(0, bending, a, &rho, 0.05, nullptr, nullptr), 1e-12);
-    for (const double e : {0.02, 0.05, 0.11, 0.4}) {
+    for (const double e : {0.002, 0.01, 0.02, 0.05, 0.11, 0.4}) {
       double slope = 0;
       K.shape_factor(1, bending, a, &rho, e, nullptr, nullptr, &slope);
       const double d = 1e-7;
@@ -373,6 +382,61 @@ TEST(PeakByShape, FactorsByTheToolFollowAPowerLawBetweenTheNodes) {
   FillStiffnessCurve wrong = curve;
   wrong.tool_cut = false;
   EXPECT_THROW(ConcentrationMap{wrong}, InputError);
+}
+
+// Below the tool's first node the power law's exponent is held to [0, 1]: a first interval that
+// falls faster than a crack's 1/τ goes on as 1/τ, and one that rises is held at the first node;
+// the slopes in α, ρ and τ match central differences either way.
+TEST(PeakByShape, BelowTheToolsFirstNodeItsExponentIsHeldToACracks) {
+  TwoShapes shapes;
+  shapes.corners = shapes.tool = true;
+  const FillStiffnessCurve base = shapes.curve(true);
+  const double a = 0.5 * (base.alpha[2] + base.alpha[3]), rho = biaxiality_node(3) + 0.1, tau0 = tool_node(0);
+  for (const double scale : {3.0, 1.0 / 1.5}) {
+    SCOPED_TRACE(fmt::format("node 0 = {} node 1", scale));
+    // Node 0 is the shape's tables by biaxiality (and the first block of its tables by corner),
+    // node 1 the second block: node 0 set to 3× node 1, or node 1 to 1.5× node 0.
+    FillStiffnessCurve curve = base;
+    FillStiffnessCurve::ShapeConcentration& k = curve.shape_concentration[1];
+    for (int part = 0; part < 2; ++part) {
+      auto& states = part == 0 ? k.membrane_by_biaxiality : k.bending_by_biaxiality;
+      auto& corner = part == 0 ? k.membrane_by_corner : k.bending_by_corner;
+      auto& worst = part == 0 ? k.membrane : k.bending;
+      for (size_t i = 0; i < states.size(); ++i) {
+        for (int j = 0; j < kBiaxialityNodes; ++j) {
+          double& k0 = corner[i][size_t(j)];
+          double& k1 = corner[i][size_t(kBiaxialityNodes + j)];
+          if (scale > 1)
+            k0 = scale * k1;
+          else
+            k1 = k0 / scale;
+          states[i][size_t(j)] = k0;
+        }
+        worst[i] = *std::max_element(states[i].begin(), states[i].end());
+      }
+    }
+    const ConcentrationMap K(curve);
+    for (int part = 0; part < 2; ++part) {
+      const bool bending = part == 1;
+      const auto f = [&](double alpha, double r, double tau, double* da = nullptr, double* dr = nullptr,
+                         double* de = nullptr) { return K.shape_factor(1, bending, alpha, &r, tau, da, dr, de); };
+      const double k0 = f(a, rho, tau0);
+      for (const double tau : {tau0 / 4, tau0 / 16}) {
+        // 1/τ where the first interval falls faster; the first node's K where it rises.
+        EXPECT_NEAR(f(a, rho, tau), scale > 1 ? k0 * tau0 / tau : k0, 1e-12 * k0 * tau0 / tau) << tau;
+        double da = 0, dr = 0, de = 0;
+        f(a, rho, tau, &da, &dr, &de);
+        const double h = 1e-6, ht = 1e-7 * tau;
+        const double fa = (f(a + h, rho, tau) - f(a - h, rho, tau)) / (2 * h);
+        const double fr = (f(a, rho + h, tau) - f(a, rho - h, tau)) / (2 * h);
+        const double ft = (f(a, rho, tau + ht) - f(a, rho, tau - ht)) / (2 * ht);
+        EXPECT_NEAR(da, fa, 1e-5 * std::max(1.0, std::abs(fa))) << tau;
+        EXPECT_NEAR(dr, fr, 1e-5 * std::max(1.0, std::abs(fr))) << tau;
+        EXPECT_NEAR(de, ft, 1e-5 * std::max(1.0, std::abs(ft))) << tau;
+        if (scale < 1) EXPECT_EQ(de, 0.0);
+      }
+    }
+  }
 }
 
 // The peak objective carries ∂S/∂(cover) (ObjectiveTerms::d_cover) when it is given a cover and
