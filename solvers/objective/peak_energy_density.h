@@ -103,9 +103,9 @@
 /// doubling nodes). Below the first node (a round under 1/64 of its stencil: a 0.5 mm tool on
 /// stencils above 32 mm) the first interval's power law goes on, K = K_0 (τ/τ_0)^(−p), with p held to
 /// [0, 1] (a notch's peak stress grows at most as a crack's, 1/√ρ; a first interval that rises is
-/// held at the first node): the star's cells at 1/128 … 1/512 read up to 5.5% below it, the cross's
-/// bending up to 24% above at 1/512 (held at the first node, they read 2–8× above; DESIGN.md "W_peak
-/// by the tool"). Beyond 1/2 the last node is held (where no disc of the tool fits in the default
+/// held at the first node): the star's and the cross's cells at 1/128 and 1/256 read within 4.2% of
+/// it, but the cross's bending at α 0.9, whose exponent grows as its rounds shrink, 5% and 13% above
+/// it (held at the first node, they read 1.5–4× above; DESIGN.md "W_peak by the tool"). Beyond 1/2 the last node is held (where no disc of the tool fits in the default
 /// star: kept as drawn, as verify keeps it).
 ///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
