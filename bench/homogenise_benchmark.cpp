@@ -6,13 +6,20 @@
 //   BM_ToolCell/<shape>/<alpha %>/<64 τ>: the hole as a tool of radius τ bounding radii cuts it
 //   (CellOptions::tool_radius; 0 = as drawn), its rounds refined to 12 edges per radius: what the
 //   calibration by the tool pays per node and distinct fill ratio.
+//   BM_ToolCalibration/<threads>: the default star's calibration by the tool
+//   (calibrate_fill_stiffness with tool_cut: every distinct fill ratio's drawn cell and its cells
+//   at the tool nodes, side by side) in an arena of that many threads; each iteration a polygon
+//   the cache has not seen (the star scaled by 1 + 1e-9 k).
 // Counters: faces of the cell, resolution (edges per spacing), K_m and K_b (the largest states).
 #include <benchmark/benchmark.h>
 
 #include <string>
 
+#include <tbb/task_arena.h>
+
 #include "host/stencil/stencil_shape.h"
 #include "solvers/homogenise/cell_homogenisation.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 
 namespace cutwork {
 namespace {
@@ -45,6 +52,27 @@ void BM_ToolCell(benchmark::State& state, const std::string& kind) {
   options.tool_radius = double(state.range(1)) / 64;
   time_cell(state, kind, options);
 }
+
+void BM_ToolCalibration(benchmark::State& state) {
+  const Material material;
+  tbb::task_arena arena(int(state.range(0)));
+  static int fresh = 0;  // across repetitions too: every run misses the cache
+  size_t samples = 0;
+  for (auto _ : state) {
+    StencilLibrary shapes;
+    StencilShape star = make_builtin_stencil("star", {}, "star");
+    ++fresh;
+    for (Vec2& p : star.polygon) p *= 1 + 1e-9 * fresh;
+    shapes.add(star);
+    arena.execute([&] {
+      const FillStiffnessCurve c = solvers::calibrate_fill_stiffness(shapes, material, solvers::CellOptions{}, {}, true);
+      samples = c.alpha.size();
+    });
+  }
+  state.counters["samples"] = double(samples);
+}
+
+BENCHMARK(BM_ToolCalibration)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_CAPTURE(BM_ToolCell, star, std::string("star"))
     ->Args({75, 0})

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <tuple>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "host/core/error.h"
 #include "host/pattern/pattern_context.h"
@@ -43,51 +46,69 @@ void push_ratios(ShapeCurve& c, const SampleRatios& r) {
   c.bending_shear.push_back(r[5]);
 }
 
-/// The factors of `shape`'s holes as a tool cuts them at fill ratio α (FillStiffnessCurve::tool_cut):
-/// per tool node τ_c the cell of the hole opened by τ_c (cell_homogenisation.h, "The tool's
-/// rounds"), its K by biaxiality; a node at which the tool leaves the cell as drawn (a smooth
-/// shape, one no disc of τ_c fits, or one it changes by less than τ_c/20: tool_changes_cell) takes
-/// the drawn cell's (`drawn`), which is what that cell would be. kToolNodes × kBiaxialityNodes
-/// values each, node major.
-void tool_factors(const StencilShape& shape, const Material& material, const CellOptions& options, double alpha,
-                  const CellStiffness& drawn, std::vector<double>& membrane, std::vector<double>& bending) {
-  membrane.clear();
-  bending.clear();
-  for (int c = 0; c < kToolNodes; ++c) {
-    const bool changed = tool_changes_cell(shape, tool_node(c));
-    CellStiffness cut;
-    if (changed) {
-      CellOptions o = options;
-      o.tool_radius = tool_node(c);
-      cut = homogenise_cell(shape, material, alpha, o);
-    }
-    const CellStiffness& cell = changed ? cut : drawn;
-    membrane.insert(membrane.end(), cell.membrane_concentration_by_biaxiality.begin(),
-                    cell.membrane_concentration_by_biaxiality.end());
-    bending.insert(bending.end(), cell.bending_concentration_by_biaxiality.begin(),
-                   cell.bending_concentration_by_biaxiality.end());
-  }
+/// The cells of one shape's calibration, side by side: `jobs` cells, job k into cells[k]. Each runs
+/// alone in an arena of one thread, so that a cell's CHOLMOD factorisation keeps one BLAS thread
+/// (thread_policy.h: the arena's concurrency is its thread budget) and reads the same to the last bit
+/// however many run beside it; their analyses' METIS orderings are drawn one at a time
+/// (cholmod_solver.cpp). A cell's own work is serial (meshing, a factorisation of one thread): one
+/// tool cell took 2.0 s alone in the default arena and in an arena of one, two side by side 2.3 s
+/// on the two-core build machine.
+void homogenise_side_by_side(size_t jobs, const std::function<CellStiffness(size_t)>& cell,
+                             std::vector<CellStiffness>& cells) {
+  cells.assign(jobs, CellStiffness{});
+  // Isolated: the caller holds the calibration's lock (calibrate_fill_stiffness), and a thread that
+  // waited here for the cells must not pick up another task that asks for that lock.
+  tbb::this_task_arena::isolate([&] {
+    tbb::parallel_for(size_t(0), jobs, [&](size_t k) {
+      tbb::task_arena alone(1);
+      alone.execute([&] { cells[k] = cell(k); });
+    });
+  });
 }
 
 ShapeCurve calibrate_shape(const StencilShape& shape, const Material& material, const CellOptions& options,
                            const std::vector<double>& grid, bool tool_cut) {
   const double lowest = 1 - max_hole_fraction(shape, 0.1, options.lattice);
-  // The cells, one per distinct fill ratio (the grid's points below the lowest one share it), one
-  // after the other: two cells factorised at once are not reproducible to the last digits (see
-  // calibrate_fill_stiffness).
+  // The cells, one per distinct fill ratio (the grid's points below the lowest one share it), and
+  // with a tool one per fill ratio and tool node τ_c at which the tool changes the shape's cell
+  // (tool_changes_cell: a smooth shape, one no disc of τ_c fits, or one it changes by less than
+  // τ_c/20, is its drawn cell, which is what that cell would be), all side by side.
   std::vector<double> cut;
   for (double alpha : grid)
     if (alpha < 1 && std::find(cut.begin(), cut.end(), std::max(alpha, lowest)) == cut.end())
       cut.push_back(std::max(alpha, lowest));
-  std::vector<CellStiffness> cells;
-  for (const double a : cut) cells.push_back(homogenise_cell(shape, material, a, options));
+  std::vector<int> nodes;  // the tool nodes that change the cell
   if (tool_cut)
-    // The factors become the tool's: by corner its nodes', and the plain ones its smallest round's
-    // (node 0, the largest K; what a face of no known shape or radius reads).
+    for (int c = 0; c < kToolNodes; ++c)
+      if (tool_changes_cell(shape, tool_node(c))) nodes.push_back(c);
+  // Job k: the drawn cell at cut[k] for k < cut.size(), then the tool's cells fill ratio major.
+  std::vector<CellStiffness> solved;
+  homogenise_side_by_side(cut.size() * (1 + nodes.size()),
+                          [&](size_t k) {
+                            if (k < cut.size()) return homogenise_cell(shape, material, cut[k], options);
+                            const size_t j = k - cut.size();
+                            CellOptions o = options;
+                            o.tool_radius = tool_node(nodes[j % nodes.size()]);
+                            return homogenise_cell(shape, material, cut[j / nodes.size()], o);
+                          },
+                          solved);
+  std::vector<CellStiffness> cells(solved.begin(), solved.begin() + std::ptrdiff_t(cut.size()));
+  if (tool_cut)
+    // The factors become the tool's (FillStiffnessCurve::tool_cut): by corner its nodes' K by
+    // biaxiality, node major, kToolNodes × kBiaxialityNodes values; the plain ones its smallest
+    // round's (node 0, the largest K; what a face of no known shape or radius reads).
     for (size_t k = 0; k < cut.size(); ++k) {
       CellStiffness& cell = cells[k];
       std::vector<double> membrane, bending;
-      tool_factors(shape, material, options, cut[k], cell, membrane, bending);
+      for (int c = 0; c < kToolNodes; ++c) {
+        const auto at = std::find(nodes.begin(), nodes.end(), c);
+        const CellStiffness& node =
+            at == nodes.end() ? solved[k] : solved[cut.size() + k * nodes.size() + size_t(at - nodes.begin())];
+        membrane.insert(membrane.end(), node.membrane_concentration_by_biaxiality.begin(),
+                        node.membrane_concentration_by_biaxiality.end());
+        bending.insert(bending.end(), node.bending_concentration_by_biaxiality.begin(),
+                       node.bending_concentration_by_biaxiality.end());
+      }
       cell.membrane_concentration_by_corner = std::move(membrane);
       cell.bending_concentration_by_corner = std::move(bending);
       const auto node0 = [](const std::vector<double>& table) {
@@ -241,10 +262,12 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
                        grid, tool_cut};
     // One calibration at a time in the process, the cache looked up again under the lock: a
     // caller that waited finds the curve another computed (a sweep's concurrent variants calibrate
-    // once), and no cell is factorised while another is. Two cell problems of 25k DOFs factorised
-    // at once in two threads of one process (α = 0.9 at 96 edges per spacing) differed in the 14th
-    // digit now and then, and a sweep's variants with them (SweepCommand.LocalAndMpiRunsAgree);
-    // smaller ones (the 24 edges per spacing of the stiffness alone) never did in the runs tried.
+    // once); the shape's cells run side by side inside it (homogenise_side_by_side). Two cell
+    // problems of 25k DOFs factorised at once in two threads (α = 0.9 at 96 edges per spacing)
+    // used to differ in the 14th digit now and then, and a sweep's variants with them
+    // (SweepCommand.LocalAndMpiRunsAgree), smaller ones (under 20k DOFs: AMD) never: their METIS
+    // orderings drew from one random generator at once. Analyses with METIS are now one at a time
+    // (CholmodSolver::analyze), and cells side by side read as they do one after the other.
     std::unique_lock lock(mutex);
     auto it = cache.find(key);
     if (it == cache.end())

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
@@ -164,7 +165,18 @@ void CholmodSolver::analyze(int n, const std::vector<int>& column_starts,
                                 : ordering == Ordering::Metis ? CHOLMOD_METIS
                                                               : CHOLMOD_NESDIS;
   s.common.postorder = 1;
-  s.factor = cholmod_analyze(&A, &s.common);
+  {
+    // METIS (CHOLMOD_METIS and NESDIS) draws its random numbers from one process-wide generator
+    // (GKlib's), reseeded at each call: two analyses at once interleave its draws — a data race —
+    // and each gets an ordering that depends on the other's timing. Orderings change the factor's
+    // rounding, and the periodic cell problems amplify it: two tool cells homogenised side by side
+    // read their bending stiffness 2e-8 apart from the same cells one after the other; with the
+    // analyses one at a time they agree to the last bit. AMD has no such state.
+    static std::mutex metis_mutex;
+    std::unique_lock lock(metis_mutex, std::defer_lock);
+    if (ordering != Ordering::Amd) lock.lock();
+    s.factor = cholmod_analyze(&A, &s.common);
+  }
   s.check("analyze");
   if (!s.factor) throw SolveError("CHOLMOD analyze failed: " + status_text(s.common.status));
   if (!s.factor->is_super) throw InternalError("CHOLMOD analyze: the factor is not supernodal");

@@ -9,7 +9,8 @@
 /// The matrix is symmetric and given by its upper triangle in compressed-column form (the layout of
 /// BlockAssembly). CHOLMOD's state (cholmod_common, the factor, solve workspaces) lives in a private
 /// struct owned by this object; the object is movable, not copyable, and not thread-safe (one
-/// solver per thread). CHOLMOD never prints or aborts: its failures come back as
+/// solver per thread); analyses with a METIS ordering are run one at a time in the process (METIS
+/// draws from one process-wide random generator, cholmod_solver.cpp). CHOLMOD never prints or aborts: its failures come back as
 /// cutwork::SolveError with CHOLMOD's reason in words, and an indefinite matrix is a normal
 /// `false` from factorize(), leaving the choice of a shift to the caller.
 #include <memory>

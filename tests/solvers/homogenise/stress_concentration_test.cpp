@@ -450,11 +450,36 @@ TEST(StressConcentration, CalibrationByTheToolCarriesTheRoundsFactors) {
   }
 }
 
+// Cells homogenised side by side (the calibration's, homogenise_side_by_side) read to the last bit
+// what each reads alone. A tool cell is large enough (about 50k DOFs) for a METIS ordering, whose
+// random generator is one per process: two such analyses at once used to interleave its draws, and
+// the same cell read its bending stiffness 2e-8 apart (CholmodSolver::analyze now runs them one at
+// a time).
+TEST(StressConcentration, CellsHomogenisedSideBySideReadAsAlone) {
+  const StencilShape star = make_builtin_stencil("star", {}, "star");
+  CellOptions o;
+  o.tool_radius = 1.0 / 16;
+  const CellStiffness alone = homogenise_cell(star, test::pa12(), 0.75, o);
+  CellStiffness side[2];
+  std::thread first([&] { side[0] = homogenise_cell(star, test::pa12(), 0.75, o); });
+  std::thread second([&] { side[1] = homogenise_cell(star, test::pa12(), 0.75, o); });
+  first.join();
+  second.join();
+  for (const CellStiffness& c : side) {
+    EXPECT_EQ(c.faces, alone.faces);
+    EXPECT_EQ(c.membrane_factor, alone.membrane_factor);
+    EXPECT_EQ(c.bending_factor, alone.bending_factor);
+    EXPECT_EQ(c.bending_shear_factor, alone.bending_shear_factor);
+    EXPECT_EQ(c.membrane_concentration_by_biaxiality, alone.membrane_concentration_by_biaxiality);
+    EXPECT_EQ(c.bending_concentration_by_biaxiality, alone.bending_concentration_by_biaxiality);
+  }
+}
+
 TEST(StressConcentration, ConcurrentCallersCalibrateOnceAndGetOneCurve) {
   // Two threads ask for the same shape's curve at once (a sweep's variants in one process): one
   // computes it, the other waits and reads the cache, and both get the same bits. With the lock
   // around the lookup only, both computed it, and two cell problems of 25k DOFs factorised at once
-  // differed in the 14th digit now and then (fill_stiffness_calibration.cpp). A 60-gon, so that no
+  // differed in the 14th digit now and then (their METIS orderings: CholmodSolver::analyze). A 60-gon, so that no
   // other test in this process has calibrated it before.
   StencilLibrary shapes;
   shapes.add(make_builtin_stencil("circle", {{"segments", 60}}, "sixty"));
