@@ -48,8 +48,20 @@ void add_limit_options(CLI::App& cmd) {
   cmd.add_option("--max-factor-gb", limits.max_factor_gb,
                  "refuse a simulation mesh whose stiffness factor would take more memory than this (GB, from "
                  "CHOLMOD's symbolic analysis before any factorisation)")
+      ->check(finite_number())
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+}
+
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& text) {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value))
+          return "Value " + text + " is not a finite number";
+        return std::string();
+      },
+      "FINITE", "finite number");
 }
 
 std::unique_ptr<OutputSet> open_output_set(const RunOptions& opts) {

@@ -17,6 +17,7 @@
 
 namespace CLI {
 class App;
+class Validator;
 }
 
 namespace cutwork::cli {
@@ -35,6 +36,12 @@ void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default
 
 /// Adds --max-faces, --max-stencils and --max-factor-gb (host/core/work_limits.h) to `cmd`.
 void add_limit_options(CLI::App& cmd);
+
+/// Refuses a value that is not a finite number ("nan", "inf"). CLI11's Range, NonNegativeNumber and
+/// PositiveNumber let NaN through (every comparison with it is false): `--edge-length nan` ran a
+/// verify, `--max-factor-gb nan` switched the limit off. Put it before those on every real-valued
+/// option.
+CLI::Validator finite_number();
 
 /// Locks the output folder `--out` and stages the run's outputs there (see host/core/output_set.h);
 /// says on stderr when it waits for another run (--wait).

@@ -330,6 +330,7 @@ void add_design_command(CLI::App& app) {
   cmd->add_option("--checkpoint-every", opts->checkpoint_every,
                   "seconds between checkpoints inside a phase, taken at the first optimiser iteration after the "
                   "interval (0: only at phase ends)")
+      ->check(finite_number())
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,

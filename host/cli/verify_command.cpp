@@ -341,7 +341,7 @@ void run_verify(const VerifyOptions& opts) {
     const Vec3 peak_position = zoomed ? v.zoom.steps.back().position : v.levels.back().rim_peak_position;
     if (std::isfinite(v.W_peak_ratio))
       say(run, fmt::format("cutwork verify: peak energy density: coarse W_peak {:.4g} J/m² (W_max {:.4g}{}), conforming "
-                           "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}{}), extrapolated {:.4g} ± {:.2g}; "
+                           "rim peak {:.4g} J/m² at ({:.4g}, {:.4g}, {:.4g}) m ({}{}){}; "
                            "ratio {:.4f} (extrapolated {:.4f}){}",
                            v.coarse.W_peak_max, v.coarse.W_max,
                            std::isfinite(v.ligaments.W_max)
@@ -362,7 +362,10 @@ void run_verify(const VerifyOptions& opts) {
                            v.tool_radius > 0 ? fmt::format("; outlines as a tool of radius {:.3g} m cuts them, {} rounded",
                                                            v.tool_radius, v.tool_rounded)
                                              : std::string(),
-                           v.peak_extrapolated, v.peak_error_bar, v.W_peak_ratio, v.W_peak_ratio_extrapolated,
+                           std::isfinite(v.peak_error_bar)
+                               ? fmt::format(", extrapolated {:.4g} ± {:.2g}", v.peak_extrapolated, v.peak_error_bar)
+                               : std::string(", no error bar"),
+                           v.W_peak_ratio, v.W_peak_ratio_extrapolated,
                            v.W_estimate != v.coarse.W_peak_max
                                ? fmt::format("; max(W_peak, W_lig) / conforming {:.4f} (extrapolated {:.4f})",
                                              v.W_estimate_ratio, v.W_estimate_ratio_extrapolated)
@@ -389,6 +392,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--edge-length", opts->edge_length,
                   "target edge length of the conforming mesh at the coarsest level, m (0: the base mesh's mean "
                   "edge length)")
+      ->check(finite_number())
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--levels", opts->levels,
@@ -399,6 +403,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--tolerance", opts->tolerance,
                   "stop refining once the Richardson-extrapolated conforming compliance's error bar is within this "
                   "fraction of it, after at least --min-levels levels (report.json `converged`; 0: run every level)")
+      ->check(finite_number())
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
   cmd->add_option("--min-levels", opts->min_levels,
@@ -428,6 +433,7 @@ void add_verify_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--elements-across", opts->elements_across,
                   "triangles the grading puts across the narrowest ligament and a hole's diameter")
+      ->check(finite_number())
       ->check(CLI::Range(1.0, 16.0))
       ->capture_default_str();
   cmd->add_option("--tool-radius", opts->tool_radius,
@@ -436,6 +442,7 @@ void add_verify_command(CLI::App& app) {
                   "rounded as a part cut with that tool is, and the rim peak is read on them; the coarse W_peak it is "
                   "compared with reads the tool's rounds too (default: the scene's fabrication.tool_radius; 0: the "
                   "outlines as drawn, the rim within fabrication.min_feature of their sharp corners left out)")
+      ->check(finite_number())
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
       ->check(CLI::Range(0, 4096))

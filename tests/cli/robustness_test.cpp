@@ -227,6 +227,25 @@ TEST(CliRobustness, LimitsAreSettings) {
   EXPECT_NE(r.out.find("about 300 stencils (estimated)"), std::string::npos) << r.out;
 }
 
+TEST(CliRobustness, RealValuedOptionsRefuseWhatIsNotAFiniteNumber) {
+  // CLI11's range checks let NaN through (every comparison with it is false): `verify
+  // --edge-length nan` ran, `--max-factor-gb nan` switched the limit off, `--tool-radius nan` cut
+  // as drawn. Each real-valued option now refuses nan, inf and words in one line, before any work.
+  const fs::path dir = test::temp_dir("robust_finite");
+  const std::string out = " --out " + (dir / "out").string();
+  const std::string design = "design plate --phases none" + out;
+  for (const char* bad : {"nan", "inf", "-inf", "NaN", "one"}) {
+    SCOPED_TRACE(bad);
+    const std::string v = std::string(" ") + bad;
+    expect_one_line_error(cutwork(design + " --checkpoint-every" + v), {"--checkpoint-every", bad});
+    expect_one_line_error(cutwork(design + " --max-factor-gb" + v), {"--max-factor-gb", bad});
+    for (const char* option : {"--edge-length", "--tolerance", "--elements-across", "--tool-radius"})
+      expect_one_line_error(cutwork("verify " + (dir / "no-design").string() + " " + option + v), {option, bad});
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
 TEST(CliRobustness, ProgressLinesOnStderrWithoutATerminal) {
   const fs::path out = test::temp_dir("robust_progress");
   // Every update as a line (the interval is 5 s by default; short runs print none).
