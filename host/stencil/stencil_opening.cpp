@@ -66,6 +66,28 @@ void append_arc(std::vector<Vec2>& out, const Vec2& c, double r, double a0, doub
   }
 }
 
+double segment_distance(const Vec2& a, const Vec2& b, const Vec2& q) {
+  const Vec2 e = b - a;
+  const double t = std::clamp((q - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+  return (a + t * e - q).norm();
+}
+
+/// The smallest distance between two edges of the polygon that share no vertex (brute force, n²/2
+/// pairs; each pair's distance is the least of its four vertex-to-edge distances, since
+/// two edges of a simple polygon do not cross).
+double narrowest_neck(std::span<const Vec2> p) {
+  const size_t n = p.size();
+  double d = INFINITY;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // adjacent across the wrap
+      const Vec2 &a = p[i], &b = p[(i + 1) % n], &c = p[j], &e = p[(j + 1) % n];
+      d = std::min({d, segment_distance(a, b, c), segment_distance(a, b, e), segment_distance(c, e, a),
+                    segment_distance(c, e, b)});
+    }
+  return d;
+}
+
 /// A polygon of line segments and circular arcs as a polyline (see append_arc), points closer than
 /// `merge` to the last kept one dropped.
 std::vector<Vec2> linearise(const Traits::Polygon_2& g, double step, bool circumscribed, double merge) {
@@ -103,6 +125,29 @@ LinearPolygon to_cgal(std::span<const Vec2> p) {
 
 }  // namespace
 
+bool fillet_polygon(std::span<const Vec2> polygon, double radius, double arc_step, std::vector<Vec2>& out) {
+  const size_t n = polygon.size();
+  out.clear();
+  std::vector<Vec2> corners;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 &p = polygon[(i + n - 1) % n], &v = polygon[i], &q = polygon[(i + 1) % n];
+    const Vec2 a = v - p, b = q - v;
+    const double turn = std::atan2(cross(a, b), a.dot(b));
+    if (turn <= arc_step) {  // a notch (turning away), or a fillet within r (1/cos(step/2) − 1) of v
+      out.push_back(v);
+      continue;
+    }
+    const double t = radius * std::tan(0.5 * turn);  // from v to the fillet's tangent points
+    if (t > 0.5 * std::min(a.norm(), b.norm())) return false;
+    const Vec2 ua = a.normalized(), ub = b.normalized();
+    const Vec2 start = v - t * ua, end = v + t * ub, centre = start + radius * Vec2(-ua.y(), ua.x());
+    out.push_back(start);
+    append_arc(out, centre, radius, std::atan2(start.y() - centre.y(), start.x() - centre.x()), turn, arc_step, false);
+    out.push_back(end);
+  }
+  return narrowest_neck(polygon) >= 2 * radius;
+}
+
 OpenedPolygon open_polygon(std::span<const Vec2> polygon, double radius, double arc_step) {
   if (!(radius > 0) || !std::isfinite(radius))
     throw InputError(fmt::format("polygon opening: the radius must be finite and positive (got {})", radius));
@@ -118,6 +163,17 @@ OpenedPolygon open_polygon(std::span<const Vec2> polygon, double radius, double 
     out.unchanged = true;
     return out;
   }
+  // A tool far smaller than the polygon (under kFilletOpening of its size) whose fillets fit: the
+  // fillets themselves. CGAL's offsets there left needles of no width (the default heart opened by
+  // 1e-4 of its size had a vertex on another edge; the leaf at 1e-7), which the cut made into holes
+  // touching at a point and the solid into a non-manifold one.
+  double size = 0;
+  for (const Vec2& v : polygon) size = std::max(size, (v - polygon[0]).norm());
+  if (radius < kFilletOpening * size && fillet_polygon(polygon, radius, arc_step, out.polygon)) {
+    out.components = 1;
+    return out;
+  }
+  out.polygon.clear();
   // Points closer than 1e-3 r are one: CGAL's arcs between nearly coincident points would leave
   // pieces of 1e-8 r, which the cut (host/cut) would make into vertices a few 1e-10 m apart.
   const double eps = 1e-6 * radius, merge = 1e-3 * radius;

@@ -15,7 +15,11 @@
 /// per segment, with the inset's arcs (about the notches) circumscribed so that the notches come
 /// back inside the material by at most r (1/cos(π/16) − 1) ≈ 0.02 r; the straight pieces lie
 /// within 1e-5 r of the drawn sides (CGAL's ε of 1e-6 r per offset; measured up to 5e-6 r
-/// outside, tests/host/stencil/stencil_opening_test.cpp). About 20 ms per star.
+/// outside, tests/host/stencil/stencil_opening_test.cpp). About 20 ms per star. A tool under
+/// kFilletOpening (1e-3) of the polygon's size is written as the fillets themselves
+/// (fillet_polygon), where they fit: there CGAL's offsets of the double-precision polygon left
+/// needles of no width (the heart at 1e-4, the leaf at 1e-7), and the chair designed with a 0.1 µm
+/// tool had two holes touching at a point (a 6e-17 m "ligament") and no printable solid.
 ///
 /// A polygon is a smooth curve written as segments when none of its corners is sharp at r: every
 /// vertex that turns towards the inside turns by at most kToolCornerTurn (30°, the rim recovery's
@@ -41,6 +45,10 @@ inline constexpr double kOpeningArcStep = 5.0 * 3.14159265358979323846 / 180.0;
 /// A vertex turning towards the inside by more than this (30°) is a corner (see above).
 inline constexpr double kToolCornerTurn = 30.0 * 3.14159265358979323846 / 180.0;
 
+/// Below this fraction of a polygon's size (its largest distance from its first vertex) a tool's
+/// opening is written as fillets (fillet_polygon) where they fit, not by CGAL's offsets.
+inline constexpr double kFilletOpening = 1e-3;
+
 struct OpenedPolygon {
   std::vector<Vec2> polygon;  ///< counter-clockwise; empty when no disc of the radius fits inside
   int components = 0;         ///< pieces of the opening (a neck narrower than 2r splits it); the
@@ -52,6 +60,15 @@ struct OpenedPolygon {
 /// polygon's units). Throws InputError for a radius that is not finite and positive or a polygon
 /// of fewer than 3 points.
 OpenedPolygon open_polygon(std::span<const Vec2> polygon, double radius, double arc_step = kOpeningArcStep);
+
+/// The opening of `polygon` (counter-clockwise, simple) by a disc of `radius` far smaller than its
+/// features, exactly: every vertex turning towards the inside by more than `arc_step` becomes the
+/// arc of `radius` tangent to its two edges (points on the arc, at most `arc_step` apart), every
+/// other vertex is kept (its fillet lies within r (1/cos(step/2) − 1) ≈ 1e-3 r of it). That is the
+/// opening when each fillet fits within half of its edges and no two edges that share no vertex come
+/// within 2r of each other (no neck the disc cannot pass): false otherwise (`out` then undefined).
+/// open_polygon uses it below kFilletOpening of the polygon's size.
+bool fillet_polygon(std::span<const Vec2> polygon, double radius, double arc_step, std::vector<Vec2>& out);
 
 /// Stencils as a tool of radius `tool_radius` (m) cuts them: one shape per stencil, its shape's
 /// polygon opened by tool_radius / s (its own scale s) in the reference frame — the same centre

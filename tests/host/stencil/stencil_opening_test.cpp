@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "host/core/error.h"
 #include "host/stencil/stencil_opening.h"
+#include "host/stencil/stencil_shape.h"
 
 namespace cutwork {
 namespace {
@@ -102,6 +104,62 @@ TEST(PolygonOpening, AStarsTipsAreRoundedAndItsNotchesStaySharp) {
     // The tool leaves material at the tips: the opening is smaller than the drawn star.
     EXPECT_LT(signed_area(o.polygon), signed_area(drawn));
   }
+}
+
+// A tool far smaller than the polygon (below kFilletOpening of its size) opens it into its fillets:
+// CGAL's offsets there left needles of no width (the default heart at 1e-4 of its size had a vertex
+// on another edge, the leaf at 1e-7), which the cut made into holes touching at a point. Each
+// opening is simple, inside the drawn polygon, and its area the drawn one's less the fillets'
+// closed form r² (tan(φ/2) − φ/2) per corner turning by φ, and the chords' r²/2 (Δ − sin Δ) per
+// segment of Δ = φ/m. The fillets match CGAL's opening of the star (kept above the threshold), and
+// a neck narrower than 2r is no place for them.
+TEST(PolygonOpening, AToolFarSmallerThanThePolygonOpensItIntoItsFillets) {
+  for (const char* kind : {"heart", "leaf", "star", "cross"})
+    for (const double r : {1e-4, 1e-7}) {
+      SCOPED_TRACE(std::string(kind) + " at " + std::to_string(r));
+      const std::vector<Vec2> drawn = make_builtin_stencil(kind, {}, kind).polygon;
+      const OpenedPolygon o = open_polygon(drawn, r);
+      ASSERT_EQ(o.components, 1);
+      ASSERT_FALSE(o.unchanged);
+      const std::vector<Vec2>& p = o.polygon;
+      const size_t n = p.size();
+      double closest = INFINITY;  // a vertex to an edge not its own
+      for (size_t i = 0; i < n; ++i)
+        for (size_t j = 0; j < n; ++j)
+          if (j != i && (j + 1) % n != i) closest = std::min(closest, segment_distance(p[j], p[(j + 1) % n], p[i]));
+      EXPECT_GT(closest, 0.01 * r);  // an arc's shortest chord, 2r sin(1.25°) = 0.044 r; a needle's 0
+      double outside = -INFINITY, removed = 0;
+      for (const Vec2& q : p) outside = std::max(outside, signed_distance(drawn, q));
+      EXPECT_LT(outside, 1e-12);
+      const size_t m = drawn.size();
+      for (size_t i = 0; i < m; ++i) {
+        const Vec2 a = drawn[i] - drawn[(i + m - 1) % m], b = drawn[(i + 1) % m] - drawn[i];
+        const double phi = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+        if (phi <= kOpeningArcStep) continue;
+        const int segments = int(std::ceil(phi / kOpeningArcStep));
+        const double delta = phi / segments;
+        removed += r * r * (std::tan(0.5 * phi) - 0.5 * phi) + segments * 0.5 * r * r * (delta - std::sin(delta));
+      }
+      ASSERT_GT(removed, 0.0);
+      if (r > 1e-6)  // (at 1e-7 the fillets' 1e-14 is below the shoelace sums' round-off)
+        EXPECT_NEAR(signed_area(drawn) - signed_area(p), removed, 1e-4 * removed);
+    }
+  // The twin above the threshold: the star's fillets at r = 0.01 against CGAL's opening, each
+  // vertex of one within the arcs' chord height (r (1 − cos 2.5°), 1e-3 r) of the other's outline.
+  const std::vector<Vec2> s = make_builtin_stencil("star", {}, "star").polygon;
+  const double r = 0.01;
+  std::vector<Vec2> fillets;
+  ASSERT_TRUE(fillet_polygon(s, r, kOpeningArcStep, fillets));
+  const OpenedPolygon cgal = open_polygon(s, r);
+  ASSERT_GT(cgal.polygon.size(), 0u);
+  const std::vector<Vec2>& opened = cgal.polygon;
+  for (const Vec2& q : fillets) EXPECT_LT(std::abs(signed_distance(opened, q)), 2e-3 * r) << q.transpose();
+  for (const Vec2& q : opened) EXPECT_LT(std::abs(signed_distance(fillets, q)), 2e-3 * r) << q.transpose();
+  // A neck narrower than 2r: no fillets (open_polygon splits it, above).
+  const std::vector<Vec2> dumbbell = {{-0.9, -0.3}, {-0.3, -0.3}, {-0.3, -0.05}, {0.3, -0.05}, {0.3, -0.3}, {0.9, -0.3},
+                                      {0.9, 0.3},   {0.3, 0.3},   {0.3, 0.05},   {-0.3, 0.05}, {-0.3, 0.3}, {-0.9, 0.3}};
+  EXPECT_FALSE(fillet_polygon(dumbbell, 0.06, kOpeningArcStep, fillets));
+  EXPECT_TRUE(fillet_polygon(dumbbell, 0.04, kOpeningArcStep, fillets));
 }
 
 TEST(PolygonOpening, ASmoothConvexPolygonIsKeptAndADumbbellSplits) {
