@@ -66,12 +66,6 @@ void append_arc(std::vector<Vec2>& out, const Vec2& c, double r, double a0, doub
   }
 }
 
-double segment_distance(const Vec2& a, const Vec2& b, const Vec2& q) {
-  const Vec2 e = b - a;
-  const double t = std::clamp((q - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-  return (a + t * e - q).norm();
-}
-
 /// The smallest distance between two edges of the polygon that share no vertex (brute force, n²/2
 /// pairs; each pair's distance is the least of its four vertex-to-edge distances, since
 /// two edges of a simple polygon do not cross).

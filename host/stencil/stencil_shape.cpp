@@ -116,12 +116,16 @@ Circle min_enclosing_circle(std::vector<Vec2> pts) {
   return c;
 }
 
+}  // namespace
+
 double segment_distance(const Vec2& a, const Vec2& b, const Vec2& p) {
   const Vec2 e = b - a;
   const double len2 = e.squaredNorm();
   const double t = len2 > 0 ? std::clamp((p - a).dot(e) / len2, 0.0, 1.0) : 0.0;
   return (a + t * e - p).norm();
 }
+
+namespace {
 
 /// A shape's area, perimeter and inner radius from its polygon (in the reference frame).
 void measure_shape(StencilShape& s) {

@@ -24,12 +24,6 @@ double signed_area(const std::vector<Vec2>& p) {
   return 0.5 * a;
 }
 
-double segment_distance(const Vec2& a, const Vec2& b, const Vec2& p) {
-  const Vec2 e = b - a;
-  const double t = std::clamp((p - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-  return (a + t * e - p).norm();
-}
-
 /// Signed distance of q to the polygon's outline: negative inside (brute force, even–odd rule).
 double signed_distance(const std::vector<Vec2>& p, const Vec2& q) {
   double d = 1e300;
