@@ -122,7 +122,6 @@ LinearPolygon to_cgal(std::span<const Vec2> p) {
 bool fillet_polygon(std::span<const Vec2> polygon, double radius, double arc_step, std::vector<Vec2>& out) {
   const size_t n = polygon.size();
   out.clear();
-  std::vector<Vec2> corners;
   for (size_t i = 0; i < n; ++i) {
     const Vec2 &p = polygon[(i + n - 1) % n], &v = polygon[i], &q = polygon[(i + 1) % n];
     const Vec2 a = v - p, b = q - v;

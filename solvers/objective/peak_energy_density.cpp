@@ -173,10 +173,10 @@ double ConcentrationMap::shape_factor(int shape, bool bending, double alpha, con
     const double span = std::log(e1 / e0);
     const double t = below ? std::log(x / e0) / span : std::clamp(std::log(x / e0) / span, 0.0, 1.0);
     const double l_free = std::log(v1 / v0), l = below ? std::clamp(l_free, -span, 0.0) : l_free;
-    const bool free = l == l_free;
-    value = free ? std::pow(v0, 1 - t) * std::pow(v1, t) : v0 * std::exp(t * l);
-    da = value * ((free ? 1 - t : 1) * a0 / v0 + (free ? t * a1 / v1 : 0));
-    dr = value * ((free ? 1 - t : 1) * r0 / v0 + (free ? t * r1 / v1 : 0));
+    const bool through_both = l == l_free;  // the power law through both nodes (not held)
+    value = through_both ? std::pow(v0, 1 - t) * std::pow(v1, t) : v0 * std::exp(t * l);
+    da = value * ((through_both ? 1 - t : 1) * a0 / v0 + (through_both ? t * a1 / v1 : 0));
+    dr = value * ((through_both ? 1 - t : 1) * r0 / v0 + (through_both ? t * r1 / v1 : 0));
     de = inside || below ? value * l / (span * x) : 0.0;
   } else {
     const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
