@@ -283,8 +283,13 @@ void run_design_command(const DesignCommandOptions& opts) {
                   scene.name, r.layout.size(), meshes.base.num_faces(), meshes.sim.num_faces(),
                   r.uncut.summary.W_max, r.pattern_design.summary.W_max, r.final_design.summary.W_max,
                   std::isfinite(r.final_design.summary.W_peak_max)
-                      ? fmt::format("; ligament peak W_peak {:.4g} pattern, {:.4g} final{}",
+                      ? fmt::format("; ligament peak W_peak {:.4g} pattern, {:.4g} final{}{}",
                                     r.pattern_design.summary.W_peak_max, r.final_design.summary.W_peak_max,
+                                    r.final_design.summary.W_peak_thick_scale > 0
+                                        ? fmt::format(" ({:.2f}x Kirchhoff's: the stencils against the thickness)",
+                                                      r.final_design.summary.W_peak_max /
+                                                          r.final_design.summary.W_peak_kirchhoff_max)
+                                        : std::string(),
                                     std::isfinite(design.W_ligament_max)
                                         ? fmt::format(", narrow ligaments W_lig {:.4g}", design.W_ligament_max)
                                         : std::string())

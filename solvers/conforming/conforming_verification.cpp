@@ -53,7 +53,9 @@ void solve_run(const ShellModel& model, const Eigen::VectorXd& alpha, const Newt
   q.newton_iterations = stats.newton_iterations;
   q.warm_started = start != nullptr && !stats.cold_restarted;
   W = s.energy_density;
-  if (W_peak) *W_peak = s.peak_energy_density;
+  // The Kirchhoff shell's own W_peak where the thick-plate transition raised it: the conforming
+  // levels are Kirchhoff shells, and the ligaments' estimate is compared with their peak.
+  if (W_peak) *W_peak = s.peak_energy_density_kirchhoff.size() > 0 ? s.peak_energy_density_kirchhoff : s.peak_energy_density;
   if (u) *u = solver.displacements();
   q.seconds = sw.seconds();
 }
@@ -359,7 +361,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   const MechanicsSettings mechanics = resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, stencils);
   // The cover by shape where W_peak reads its factors by shape and by corner (peak_energy_density.h).
   ShapeCover cover;
-  const bool by_shape = !stencils.empty() && concentration_by_shape(mechanics.stiffness_curve);
+  const bool by_shape = !stencils.empty() && concentration_by_shape(mechanics, scene.material);
   const Eigen::VectorXd own = fill_ratios_on_mesh(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), meshes.sim,
                                                   stencils, fill, by_shape ? &cover : nullptr,
                                                   mechanics.corner_radius);
@@ -692,10 +694,13 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
   v.strain_energy_ratio = ratio(v.coarse.strain_energy, f.strain_energy);
   v.max_displacement_ratio = ratio(v.coarse.max_displacement, f.max_displacement);
   v.W_max_ratio = ratio(v.coarse.W_max, f.W_max);
-  if (std::isfinite(v.coarse.W_peak_max)) {
-    v.W_peak_ratio = ratio(v.coarse.W_peak_max, v.conforming_peak);
-    v.W_estimate = std::isfinite(v.ligaments.W_max) ? std::max(v.coarse.W_peak_max, v.ligaments.W_max)
-                                                    : v.coarse.W_peak_max;
+  // Like for like: the coarse W_peak with the cells' Kirchhoff factors against the Kirchhoff shell's
+  // rim peak (W_peak_max itself carries the thick-round transition where it applies).
+  const double coarse_peak = std::isfinite(v.coarse.W_peak_kirchhoff_max) ? v.coarse.W_peak_kirchhoff_max
+                                                                           : v.coarse.W_peak_max;
+  if (std::isfinite(coarse_peak)) {
+    v.W_peak_ratio = ratio(coarse_peak, v.conforming_peak);
+    v.W_estimate = std::isfinite(v.ligaments.W_max) ? std::max(coarse_peak, v.ligaments.W_max) : coarse_peak;
     v.W_estimate_ratio = ratio(v.W_estimate, v.conforming_peak);
   }
   if (zoomed) {
@@ -710,8 +715,8 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
       v.peak_error_bar = r.error_bar;
     }
   }
-  if (std::isfinite(v.coarse.W_peak_max) && std::isfinite(v.peak_extrapolated)) {
-    v.W_peak_ratio_extrapolated = ratio(v.coarse.W_peak_max, v.peak_extrapolated);
+  if (std::isfinite(coarse_peak) && std::isfinite(v.peak_extrapolated)) {
+    v.W_peak_ratio_extrapolated = ratio(coarse_peak, v.peak_extrapolated);
     v.W_estimate_ratio_extrapolated = ratio(v.W_estimate, v.peak_extrapolated);
   }
   if (zoomed || v.levels.size() >= 2) {

@@ -235,7 +235,10 @@ struct ConformingVerification {
   double conforming_peak = NAN;
   /// coarse W_peak_max (the rim estimate from the cell problems' concentration factors,
   /// peak_energy_density.h) / conforming_peak; NaN when the mechanics carries no concentration
-  /// samples or the shell has no free rim.
+  /// samples or the shell has no free rim. Where W_peak's thick-plate transition applies (the
+  /// stencils against the thickness), the coarse W_peak with Kirchhoff's factors
+  /// (EquilibriumScalars::W_peak_kirchhoff_max): the conforming levels are Kirchhoff shells too, and
+  /// the ligaments' W_lig and W_estimate below are read from it as well.
   double W_peak_ratio = NAN;
   /// The narrow ligaments of the design and their estimates W_lig (ligament_peak.h), from the coarse
   /// run's W_peak; empty without concentration samples.

@@ -47,10 +47,86 @@ std::vector<MonotoneCurve> checked_by_biaxiality(const std::vector<double>& alph
   return nodes;
 }
 
+/// K_b blended towards K_m in stress by φ (the header's "Thick plates").
+double thick_blend(double bending, double membrane, double phi) {
+  const double root = (1 - phi) * std::sqrt(std::max(bending, 0.0)) + phi * std::sqrt(std::max(membrane, 0.0));
+  return root * root;
+}
+
+/// `curve` with every shape's bending factors by corner blended at each node's φ_c =
+/// thick_round_transition(2 scale / e_c) (e_c the node, scale = corner radius / thickness; φ = 0 at
+/// e_c = 0), and the worst shape's bending factors, which are the largest over the shapes of each
+/// shape's node 0, recomputed from the blended ones.
+FillStiffnessCurve with_thick_plate(const FillStiffnessCurve& curve, double scale) {
+  FillStiffnessCurve c = curve;
+  const int n_nodes = c.tool_cut ? kToolNodes : kCornerNodes;
+  std::vector<double> phi;
+  for (int node = 0; node < n_nodes; ++node) {
+    const double e = c.tool_cut ? tool_node(node) : corner_node(node);
+    phi.push_back(e > 0 ? thick_round_transition(2 * scale / e) : 0.0);
+  }
+  for (FillStiffnessCurve::ShapeConcentration& shape : c.shape_concentration) {
+    if (shape.empty() || shape.bending_by_corner.empty()) continue;
+    if (shape.bending_by_corner.size() != c.alpha.size() || shape.membrane_by_corner.size() != c.alpha.size() ||
+        shape.bending_by_biaxiality.size() != c.alpha.size() || shape.membrane_by_biaxiality.size() != c.alpha.size())
+      return curve;  // malformed: the map's own checks say what is wrong
+    for (size_t k = 0; k < c.alpha.size(); ++k) {
+      std::vector<double>& bending = shape.bending_by_corner[k];
+      const std::vector<double>& membrane = shape.membrane_by_corner[k];
+      if (bending.size() != size_t(n_nodes * kBiaxialityNodes) || membrane.size() != bending.size()) return curve;
+      for (int node = 0; node < n_nodes; ++node)
+        for (int j = 0; j < kBiaxialityNodes; ++j) {
+          const size_t i = size_t(node * kBiaxialityNodes + j);
+          bending[i] = thick_blend(bending[i], membrane[i], phi[size_t(node)]);
+        }
+      // Node 0 is also the shape's plain table by biaxiality and its worst state.
+      shape.bending_by_biaxiality[k].assign(bending.begin(), bending.begin() + kBiaxialityNodes);
+      shape.bending[k] = *std::max_element(bending.begin(), bending.begin() + kBiaxialityNodes);
+    }
+  }
+  if (!(phi[0] > 0)) return c;
+  const bool states = !c.bending_concentration_by_biaxiality.empty();
+  for (size_t k = 0; k < c.alpha.size(); ++k) {
+    double worst = 1;
+    std::vector<double> worst_states(size_t(kBiaxialityNodes), 1.0);
+    for (const FillStiffnessCurve::ShapeConcentration& shape : c.shape_concentration) {
+      if (shape.empty()) continue;
+      worst = std::max(worst, shape.bending[k]);
+      if (states && shape.bending_by_biaxiality.size() == c.alpha.size())
+        for (int j = 0; j < kBiaxialityNodes; ++j)
+          worst_states[size_t(j)] = std::max(worst_states[size_t(j)], shape.bending_by_biaxiality[k][size_t(j)]);
+    }
+    c.bending_concentration[k] = worst;
+    if (states) c.bending_concentration_by_biaxiality[k] = worst_states;
+  }
+  return c;
+}
+
 }  // namespace
 
-ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
-  if (c.membrane_concentration.empty() && c.bending_concentration.empty()) return;
+double thick_round_transition(double x) {
+  if (!(x >= 0)) throw InternalError("thick_round_transition: 2ρ/h must be at least 0");
+  // Roark's K_t(x) − 1.79 over Kirsch's 3 − 1.79: the blend of Goodier's 1.79 and Kirsch's 3 is then
+  // the fit itself (whose x = 0 end is 2.981, so φ(0) = 0.984).
+  if (std::isinf(x)) return 0;
+  return (0.25 / (0.39 + x) + 0.81 / (1 + x * x) - 0.26 / (1 + x * x * x)) / (3 - 1.79);
+}
+
+ConcentrationMap ConcentrationMap::for_mechanics(const MechanicsSettings& mechanics, const Material& material) {
+  const bool thick = mechanics.corner_radius > 0 && material.thickness > 0;
+  return ConcentrationMap(mechanics.stiffness_curve, thick ? mechanics.corner_radius / material.thickness : 0.0);
+}
+
+ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& curve, double thick_scale) {
+  if (curve.membrane_concentration.empty() && curve.bending_concentration.empty()) return;
+  if (!(thick_scale >= 0 && std::isfinite(thick_scale)))
+    throw InputError(fmt::format("concentration: thick-plate scale {} is not finite and at least 0", thick_scale));
+  // The blended copy where the curve has factors by corner to blend (`c` is `curve` otherwise, to the bit).
+  const bool by_corner = std::any_of(curve.shape_concentration.begin(), curve.shape_concentration.end(),
+                                     [](const auto& s) { return !s.empty() && !s.bending_by_corner.empty(); });
+  m_thick_scale = by_corner ? thick_scale : 0.0;
+  const FillStiffnessCurve blended = m_thick_scale > 0 ? with_thick_plate(curve, m_thick_scale) : FillStiffnessCurve{};
+  const FillStiffnessCurve& c = m_thick_scale > 0 ? blended : curve;
   m_worst.membrane = checked_concentration(c.alpha, c.membrane_concentration, "membrane");
   m_worst.bending = checked_concentration(c.alpha, c.bending_concentration, "bending");
   m_membrane_ratio = MonotoneCurve(c.alpha, c.membrane);
@@ -126,8 +202,9 @@ ConcentrationMap::ConcentrationMap(const FillStiffnessCurve& c) {
   }
 }
 
-bool concentration_by_shape(const FillStiffnessCurve& curve) {
-  return !curve.shape_concentration.empty() && ConcentrationMap(curve).by_shape();
+bool concentration_by_shape(const MechanicsSettings& mechanics, const Material& material) {
+  return !mechanics.stiffness_curve.shape_concentration.empty() &&
+         ConcentrationMap::for_mechanics(mechanics, material).by_shape();
 }
 
 double ConcentrationMap::single(const Factors& f, bool bending, double alpha, const double* rho, double* d_alpha,

@@ -108,6 +108,35 @@
 /// it (held at the first node, they read 1.5–4× above; DESIGN.md "W_peak by the tool"). Beyond 1/2 the last node is held (where no disc of the tool fits in the default
 /// star: kept as drawn, as verify keeps it).
 ///
+/// Thick plates. The factors are a Kirchhoff plate's. Where a hole is not large against the
+/// shell's thickness h, the 3-D part's bending peak is higher: with a hole far smaller than h, each
+/// layer of the plate carries its share of the moment in plane stress, so the rim's bending stress
+/// concentrates as the membrane's does in the same hole (Reissner's theory: for a circular hole of
+/// radius a in uniaxial bending the factor rises from Goodier's (5 + 3ν)/(3 + ν) = 1.79 at a ≫ h
+/// towards Kirsch's 3). Roark's fit of Reissner's circular hole (Young & Budynas, Table 17.1;
+/// ν = 0.3), K_t(x) = 1.79 + 0.25/(0.39 + x) + 0.81/(1 + x²) − 0.26/(1 + x³), x = 2a/h, gives the
+/// transition
+///     φ(x) = (K_t(x) − 1.79) / (3 − 1.79),   0.98 at x = 0, 0.38 at 1, 0.12 at 2.6, 0 as x → ∞
+/// (thick_round_transition), and the bending factors become, in stress (√K) as the fit is,
+///     K_b ← ((1 − φ) √K_b + φ √K_m)²,
+/// K_m the membrane factor of the same cell at the same biaxiality node (a layer's in-plane stress
+/// state is the moment's); the circle's fit by construction (K_b = Goodier², K_m = 9 give K_t(x)²).
+/// For another hole, x = 2s/h with s the stencil's bounding radius — the hole's size, not the
+/// radius of its rounds: 3-D elasticity (solvers/solid/solid_plate.h, quadratic tetrahedra) of the
+/// default star cut by a tool of s/8 reads, at 2r/h = 2, 1, 0.5, 0.25 (r the rounds' radius),
+/// surface factors 3.9–5.9% below the rule by 2s/h at 2 to 0.5 and 1.5% at 0.25, and 16–48% below
+/// the rule by 2r/h: the factor nears the membrane's only once the plate is thick against the
+/// whole star. On the circle the same 3-D reference reads 5–14% below Roark's fit (its free surface
+/// lowers the peak there, which Reissner's plate theory does not see), so the rule bounds it.
+/// The worst over orientations and rim points of the blend is at most the blend of the worsts.
+/// A face's stencils' scale is known through the factors by corner: at node e_c (the corner rule's
+/// ε_c = g/s or the tool's τ_c = r/s, the corner radius ρ = g or r) the stencils are of bounding
+/// radius s_c = ρ/e_c, so each node's bending factors are blended at φ_c = φ(2ρ/(e_c h)) (0 at
+/// ε = 0, a stencil without bound), on the calibrated samples, and the map's slopes are those of
+/// the blended curves; between nodes the factors interpolate as before (linear in ε between the
+/// corner rule's nodes over-reads φ there: at most φ(2ρ/(ε_1 h)) ε/ε_1 against φ(2ρ/(ε h))).
+/// Without factors by corner, or without a corner radius, the factors stay Kirchhoff's.
+///
 /// As an objective (structure.measure "peak", structural_objective.h): per face,
 ///     W_peak_t = a(α_t) W_t + b(α_t) M_t,   a = k_b q_b,   b = k_m q_m − k_b q_b,
 /// with k the blended factors; a = 1, b = 0 at α = 1. The weights w (the cell filter's blend) do not
@@ -133,8 +162,10 @@ inline constexpr const char* kPeakEnergyDensityRule =
     "uncalibrated states; K ramps to 1 over alpha in [0.95, 1] "
     "and is 1 at alpha = 1; blended towards 1 where the cell filter says a face resolves its stencils; a shape with "
     "sharp corners read at mechanics.corner_radius over each stencil's scale: without a tool the rim within the "
-    "minimum feature of its corners left out, with one (fabrication.tool_radius) the holes as the tool rounds them); "
-    "max over material faces";
+    "minimum feature of its corners left out, with one (fabrication.tool_radius) the holes as the tool rounds them; "
+    "the bending K raised towards the membrane K for the thick plate, K_b <- ((1 - phi) sqrt(K_b) + phi sqrt(K_m))^2, "
+    "phi(2 s / thickness) from Roark's fit of Reissner's circular hole, s the stencils' bounding radius); max over "
+    "material faces";
 /// What reports say instead when the mechanics carries no concentration samples (W_peak null).
 inline constexpr const char* kPeakEnergyDensityAbsent =
     "not computed: no concentration factors (mechanics.stiffness is not homogenised)";
@@ -149,9 +180,18 @@ class ConcentrationMap {
  public:
   /// No calibration: empty().
   ConcentrationMap() = default;
-  /// From the curve's concentration samples; empty() when it has none. Throws InputError for
-  /// samples of the wrong size or below 1.
-  explicit ConcentrationMap(const FillStiffnessCurve& curve);
+  /// From the curve's concentration samples; empty() when it has none. `thick_scale`: ρ/h, the
+  /// corner radius the factors by corner are read at (MechanicsSettings::corner_radius) over the
+  /// shell's thickness, for the thick-plate transition ("Thick plates" above; 0: Kirchhoff's
+  /// factors). Throws InputError for samples of the wrong size or below 1, or a scale that is not
+  /// finite and at least 0.
+  explicit ConcentrationMap(const FillStiffnessCurve& curve, double thick_scale = 0);
+  /// The map a model of `mechanics` and `material` reads W_peak with: its curve's factors, blended
+  /// for the thick plate at ρ/h = corner_radius / thickness.
+  static ConcentrationMap for_mechanics(const MechanicsSettings& mechanics, const Material& material);
+  /// ρ/h of the thick-plate transition (0: Kirchhoff's factors: none asked for, or no factors by
+  /// corner to blend).
+  double thick_scale() const { return m_thick_scale; }
 
   bool empty() const { return m_worst.membrane.empty(); }
   /// True when the curve carries K by biaxiality (membrane and bending).
@@ -209,14 +249,20 @@ class ConcentrationMap {
   std::vector<ShapeFactors> m_shapes;  ///< by shape type
   std::vector<double> m_corner_nodes;   ///< ε of the nodes: corner_node(c), or tool_node(c) with m_tool
   bool m_tool = false;                  ///< the factors by corner are the tool's (FillStiffnessCurve::tool_cut)
+  double m_thick_scale = 0;             ///< ρ/h of the thick-plate transition
   bool m_by_shape = false;
   MonotoneCurve m_membrane_ratio, m_bending_ratio;
   MonotoneCurve m_membrane_bulk, m_membrane_shear, m_bending_bulk, m_bending_shear;  ///< the split's r
 };
 
-/// True when `curve` carries two or more shapes' own factors: W_peak then wants the shapes' covered
-/// fractions (ConcentrationMap(curve).by_shape(), without building the map).
-bool concentration_by_shape(const FillStiffnessCurve& curve);
+/// φ(x) of the thick-plate transition ("Thick plates" above) at x = 2s/h ≥ 0: Roark's fit of
+/// Reissner's circular hole, (K_t(x) − 1.79)/(3 − 1.79): 0.984 at x = 0, 0 as x → ∞; decreasing.
+double thick_round_transition(double x);
+
+/// True when the map of `mechanics` and `material` (ConcentrationMap::for_mechanics) reads its
+/// factors by shape: W_peak then wants the shapes' covered fractions (ConcentrationMap::by_shape();
+/// a thick plate's transition makes any factors by corner vary with the node).
+bool concentration_by_shape(const MechanicsSettings& mechanics, const Material& material);
 
 /// W_peak (#F, J/m²) of the rule above at positions x (#V×3) and fill ratios alpha (#F).
 /// `weight` (#F in [0, 1], optional; null: all ones): how far each face is from resolving its

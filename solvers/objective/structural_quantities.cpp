@@ -56,7 +56,7 @@ EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3
       s.W_max = s.energy_density[f];
       s.W_max_face = f;
     }
-  const ConcentrationMap K(model.mechanics().stiffness_curve);
+  const ConcentrationMap K = ConcentrationMap::for_mechanics(model.mechanics(), model.material());
   if (!K.empty()) {
     s.peak_energy_density = peak_energy_density(model, x, alpha, K, concentration_weight, cover);
     for (int f = 0; f < model.num_faces(); ++f)
@@ -64,6 +64,14 @@ EquilibriumSummary summarize_equilibrium(const ShellModel& model, const RowMatX3
         s.W_peak_max = s.peak_energy_density[f];
         s.W_peak_max_face = f;
       }
+    if (K.thick_scale() > 0) {
+      s.W_peak_thick_scale = K.thick_scale();
+      s.peak_energy_density_kirchhoff = peak_energy_density(
+          model, x, alpha, ConcentrationMap(model.mechanics().stiffness_curve), concentration_weight, cover);
+      for (int f = 0; f < model.num_faces(); ++f)
+        if (faces[size_t(f)] && !(s.peak_energy_density_kirchhoff[f] <= s.W_peak_kirchhoff_max))
+          s.W_peak_kirchhoff_max = s.peak_energy_density_kirchhoff[f];
+    }
     if (K.by_biaxiality() && s.W_peak_max_face >= 0) {
       const Eigen::MatrixX2d rho = stress_biaxiality(model, x, alpha, K);
       s.W_peak_membrane_biaxiality = rho(s.W_peak_max_face, 0);

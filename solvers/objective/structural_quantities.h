@@ -49,11 +49,19 @@ struct EquilibriumScalars {
   /// are read by state; NaN otherwise (and ρ_b without a shape-operator bend).
   double W_peak_membrane_biaxiality = std::numeric_limits<double>::quiet_NaN();
   double W_peak_bending_biaxiality = std::numeric_limits<double>::quiet_NaN();
+  /// ρ/h of W_peak's thick-plate transition (peak_energy_density.h "Thick plates": the stencils
+  /// against the shell's thickness), 0 where it does not apply; where it does, W_peak_kirchhoff_max
+  /// is max W_peak with the cells' Kirchhoff factors (what a Kirchhoff shell's own rim peak, cutwork
+  /// verify's, compares with), over the same faces; NaN otherwise.
+  double W_peak_thick_scale = 0;
+  double W_peak_kirchhoff_max = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct EquilibriumSummary : EquilibriumScalars {
   Eigen::VectorXd energy_density;  ///< #F, J/m² (every face, filler included)
   Eigen::VectorXd peak_energy_density;  ///< #F, J/m²; empty without concentration samples
+  /// #F, J/m²: W_peak with Kirchhoff's factors where the thick-plate transition applies; empty otherwise.
+  Eigen::VectorXd peak_energy_density_kirchhoff;
 };
 
 /// `concentration_weight` (#F, optional): peak_energy_density's weight for W_peak (the cell

@@ -71,7 +71,7 @@ void StructuralTerm::set_measure(DensityMeasure measure) {
   m_measure = measure;
   m_K = ConcentrationMap();
   if (measure == DensityMeasure::Mean) return;
-  m_K = ConcentrationMap(m_shell.model().mechanics().stiffness_curve);
+  m_K = ConcentrationMap::for_mechanics(m_shell.model().mechanics(), m_shell.model().material());
   if (m_K.empty())
     throw InputError("structure.measure 'peak' needs concentration factors: mechanics.stiffness must be 'homogenised'");
 }

@@ -75,6 +75,10 @@ json structure_json(const Scene& scene, const DesignResult& r) {
              {"W_peak_max_uncut", number_or_null(r.uncut.summary.W_peak_max)},
              {"W_peak_max_pattern", number_or_null(r.pattern_design.summary.W_peak_max)},
              {"W_peak_max_final", number_or_null(r.final_design.summary.W_peak_max)},
+             // ρ/h of the thick-plate transition (peak_energy_density.h), and the final W_peak with
+             // the cells' Kirchhoff factors beside it (null where it does not apply).
+             {"W_peak_thick_scale", r.final_design.summary.W_peak_thick_scale},
+             {"W_peak_kirchhoff_max_final", number_or_null(r.final_design.summary.W_peak_kirchhoff_max)},
              {"W_peak_rule", std::isfinite(r.final_design.summary.W_peak_max) ? kPeakEnergyDensityRule
                                                                               : kPeakEnergyDensityAbsent},
              {"compliance_uncut", r.uncut.summary.compliance},

@@ -25,6 +25,10 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
       // ρ of the stress and the moment at that face (−1 pure shear, 0 uniaxial, 1 equibiaxial).
       {"W_peak_biaxiality", {{"membrane", number_or_null(summary.W_peak_membrane_biaxiality)},
                              {"bending", number_or_null(summary.W_peak_bending_biaxiality)}}},
+      // ρ/h of the thick-plate transition, and W_peak with Kirchhoff's factors (null where it does
+      // not apply).
+      {"W_peak_thick_scale", summary.W_peak_thick_scale},
+      {"W_peak_kirchhoff_max", number_or_null(summary.W_peak_kirchhoff_max)},
       {"W_peak_rule", std::isfinite(summary.W_peak_max)
                           ? nlohmann::json(kPeakEnergyDensityRule)
                           : nlohmann::json(kPeakEnergyDensityAbsent)},

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "host/core/error.h"
+#include "host/core/internal_error.h"
 #include "solvers/objective/energy_density.h"
 #include "solvers/objective/peak_energy_density.h"
 #include "solvers/objective/structural_objective.h"
@@ -132,7 +133,7 @@ TEST(PeakByShape, AFaceOfOneShapeReadsThatShapesFactors) {
     const ConcentrationMap K(model.mechanics().stiffness_curve);
     ASSERT_TRUE(K.by_shape());
     ASSERT_EQ(K.num_shapes(), 2);
-    ASSERT_TRUE(concentration_by_shape(model.mechanics().stiffness_curve));
+    ASSERT_TRUE(concentration_by_shape(model.mechanics(), model.material()));
     const RowMatX3d x = fx.perturbed(72);
     const Eigen::VectorXd alpha = varied_alpha(fx);
     Eigen::VectorXd w(model.num_faces());
@@ -227,20 +228,23 @@ ShapeCover unflat(const Eigen::VectorXd& v, const ShapeCover& like) {
 // weights, for the worst state's K and K by biaxiality, and with shape 1's factors by corner at
 // radii ε̄ between the nodes, on them and beyond the last.
 TEST(PeakByShape, VectorJacobianProductsMatchCentralDifferences) {
-  for (int corner_mode : {0, 1, 2})  // none, the corner rule's, the tool's
+  // none, the corner rule's, the tool's, the tool's with the thick plate's transition
+  for (int corner_mode : {0, 1, 2, 3})
     for (bool by_state : {false, true})
       for (BendingModel bending : {BendingModel::ShapeOperator, BendingModel::Hinge}) {
-        const bool corners = corner_mode > 0, tool = corner_mode == 2;
+        const bool corners = corner_mode > 0, tool = corner_mode >= 2, thick = corner_mode == 3;
         if (corners && !by_state) continue;  // tables by corner come with tables by biaxiality
         SCOPED_TRACE(bending == BendingModel::Hinge ? "hinge" : "shape operator");
         SCOPED_TRACE(by_state ? "K by biaxiality" : "the worst state's K");
-        SCOPED_TRACE(tool ? "K by the tool" : corners ? "K by corner" : "ε = 0");
+        SCOPED_TRACE(thick ? "K by the tool, thick plate" : tool ? "K by the tool" : corners ? "K by corner" : "ε = 0");
         TwoShapes shapes;
         shapes.corners = corners;
         shapes.tool = tool;
         test::CapFixture fx(74, bending, FillStiffness::Homogenised);
         const ShellModel model = with_curve(fx, shapes.curve(by_state));
-        const ConcentrationMap K(model.mechanics().stiffness_curve);
+        // ρ/h = 0.01: φ from 0.30 at the tool's first node to 0.95 at its last.
+        const ConcentrationMap K(model.mechanics().stiffness_curve, thick ? 0.01 : 0.0);
+        ASSERT_EQ(K.thick_scale(), thick ? 0.01 : 0.0);
         const RowMatX3d x = fx.perturbed(75);
         const Eigen::VectorXd alpha = varied_alpha(fx);
         std::mt19937 rng(76);
@@ -491,7 +495,9 @@ TEST(PeakByShape, MalformedFactorsByShapeAreRejected) {
   c = shapes.curve(true);
   c.shape_concentration[1] = {};
   EXPECT_FALSE(ConcentrationMap(c).by_shape());
-  EXPECT_FALSE(concentration_by_shape(c));
+  MechanicsSettings one_shape;
+  one_shape.stiffness_curve = c;
+  EXPECT_FALSE(concentration_by_shape(one_shape, test::pa12()));
   // Tables by corner of the wrong size.
   TwoShapes cornered;
   cornered.corners = true;
@@ -500,5 +506,207 @@ TEST(PeakByShape, MalformedFactorsByShapeAreRejected) {
   EXPECT_THROW(ConcentrationMap{c}, InputError);
 }
 
+// The thick-plate transition (peak_energy_density.h "Thick plates") is Roark's fit
+// of Reissner's circular hole in bending (Young & Budynas, Table 17.1, ν = 0.3) between Goodier's
+// 1.79 and Kirsch's 3: 0.984 where the hole is far thinner than the plate (the fit's 2.981), 0
+// where it is far wider; decreasing between.
+TEST(ThickPlate, TheTransitionIsRoarksFitOfReissnersHoleNormalised) {
+  const auto roark = [](double x) { return 1.79 + 0.25 / (0.39 + x) + 0.81 / (1 + x * x) - 0.26 / (1 + x * x * x); };
+  EXPECT_NEAR(thick_round_transition(0), (roark(0) - 1.79) / (3 - 1.79), 1e-15);
+  EXPECT_NEAR(thick_round_transition(0), 0.9843, 1e-4);
+  EXPECT_EQ(thick_round_transition(INFINITY), 0.0);
+  EXPECT_LT(thick_round_transition(1e6), 1e-6);
+  double last = 2;
+  for (double x = 0; x <= 20; x += 0.01) {
+    const double phi = thick_round_transition(x);
+    EXPECT_NEAR(1.79 + (3 - 1.79) * phi, roark(x), 1e-12) << x;
+    EXPECT_LT(phi, last) << x;
+    last = phi;
+  }
+  // Two points of the fit: x = 1/12 and 1/3.
+  EXPECT_NEAR(thick_round_transition(2 * 0.0005 / 0.012), 0.8866, 5e-4);
+  EXPECT_NEAR(thick_round_transition(2 * 0.0005 / 0.003), 0.6809, 5e-4);
+  EXPECT_THROW(thick_round_transition(-0.1), InternalError);
+  EXPECT_THROW(thick_round_transition(NAN), InternalError);
+}
+
+namespace {
+
+/// A one-shape curve whose cells are a dilute circular hole's closed forms at every node
+/// (StressConcentration.DiluteCircleMatches…), by the tool's nodes (`tool`) or the corner rule's:
+/// membrane, Kirsch, (3 − ρ)²/(1 + ρ² − 2νρ); bending, Goodier's Kirchhoff plate,
+/// ((1 + ρ) + c(1 − ρ))²/(1 + ρ² − 2νρ), c = 2(1 + ν)/(3 + ν) (the rim's M_tt; the twist's peak
+/// towards pure shear left out, and the factor held at 1 or more: the tests read ρ = 0 only).
+FillStiffnessCurve dilute_circle(double nu, bool tool) {
+  FillStiffnessCurve c = test::test_stiffness_curve();
+  const size_t n = c.alpha.size();
+  const double cb = 2 * (1 + nu) / (3 + nu);
+  std::vector<double> km, kb;
+  for (int j = 0; j < kBiaxialityNodes; ++j) {
+    const double r = biaxiality_node(j), mean = 1 + r * r - 2 * nu * r;
+    km.push_back((3 - r) * (3 - r) / mean);
+    kb.push_back(std::max(1.0, ((1 + r) + cb * (1 - r)) * ((1 + r) + cb * (1 - r)) / mean));
+  }
+  c.membrane_concentration.assign(n, *std::max_element(km.begin(), km.end()));
+  c.bending_concentration.assign(n, *std::max_element(kb.begin(), kb.end()));
+  c.membrane_concentration_by_biaxiality.assign(n, km);
+  c.bending_concentration_by_biaxiality.assign(n, kb);
+  FillStiffnessCurve::ShapeConcentration shape{c.membrane_concentration, c.bending_concentration,
+                                               c.membrane_concentration_by_biaxiality,
+                                               c.bending_concentration_by_biaxiality, {}, {}};
+  std::vector<double> membrane_nodes, bending_nodes;
+  for (int node = 0; node < (tool ? kToolNodes : kCornerNodes); ++node) {
+    membrane_nodes.insert(membrane_nodes.end(), km.begin(), km.end());
+    bending_nodes.insert(bending_nodes.end(), kb.begin(), kb.end());
+  }
+  shape.membrane_by_corner.assign(n, membrane_nodes);
+  shape.bending_by_corner.assign(n, bending_nodes);
+  c.shape_concentration = {shape};
+  c.tool_cut = tool;
+  return c;
+}
+
+double roark(double x) { return 1.79 + 0.25 / (0.39 + x) + 0.81 / (1 + x * x) - 0.26 / (1 + x * x * x); }
+
+}  // namespace
+
+// A circular hole in uniaxial bending reads Roark's factor at x = 2s/h through the map, s = ρ/e_c
+// the bounding radius of the stencils at each node (the tool's τ_c = r/s, the corner rule's
+// ε_c = g/s; the corner rule's ε = 0 is a stencil without bound, Kirchhoff's); the worst shape's
+// factors are node 0's; the membrane's stay Kirsch's; ρ/h = 0 is Kirchhoff's map to the bit. Its
+// factors by corner, equal at every node before, now vary with it: the map reads them by shape.
+TEST(ThickPlate, ACircularHoleInUniaxialBendingReadsRoarksFactorAtItsSize) {
+  const double nu = 0.3, goodier = (5 + 3 * nu) / (3 + nu), uniaxial = 0;
+  ASSERT_EQ(biaxiality_node(kBiaxialityNodes / 2), uniaxial);
+  for (const bool tool : {true, false}) {
+    SCOPED_TRACE(tool ? "by the tool" : "by the corner rule");
+    const FillStiffnessCurve curve = dilute_circle(nu, tool);
+    const double alpha = curve.alpha[2];
+    const ConcentrationMap kirchhoff(curve);
+    EXPECT_FALSE(kirchhoff.by_shape());
+    EXPECT_NEAR(std::sqrt(kirchhoff.bending(alpha, uniaxial, nullptr, nullptr)), goodier, 1e-12);
+    for (const double scale : {0.002, 0.02, 0.1}) {  // ρ/h
+      SCOPED_TRACE(fmt::format("ρ/h = {}", scale));
+      const ConcentrationMap K(curve, scale);
+      ASSERT_EQ(K.thick_scale(), scale);
+      EXPECT_TRUE(K.by_shape());
+      for (int node = 0; node < (tool ? kToolNodes : kCornerNodes); ++node) {
+        const double e = tool ? tool_node(node) : corner_node(node);
+        // Goodier's 1.7879 at ν = 0.3 against the fit's 1.79: the fit's own rounding, 0.12% at most.
+        const double expected = e > 0 ? roark(2 * scale / e) : goodier;
+        EXPECT_NEAR(std::sqrt(K.shape_factor(0, true, alpha, &uniaxial, e, nullptr, nullptr)), expected, 2.5e-3)
+            << "node " << node << ", 2s/h = " << 2 * scale / e;
+        EXPECT_EQ(K.shape_factor(0, false, alpha, &uniaxial, e, nullptr, nullptr),
+                  kirchhoff.shape_factor(0, false, alpha, &uniaxial, e, nullptr, nullptr));
+      }
+      const double first = tool ? roark(2 * scale / tool_node(0)) : goodier;
+      EXPECT_NEAR(std::sqrt(K.bending(alpha, uniaxial, nullptr, nullptr)), first, 2.5e-3);
+      EXPECT_NEAR(K.membrane(alpha, uniaxial, nullptr, nullptr), 9.0, 1e-12);
+    }
+    const ConcentrationMap none(curve, 0.0);
+    EXPECT_EQ(none.thick_scale(), 0.0);
+    EXPECT_FALSE(none.by_shape());
+    for (int j = 0; j < kBiaxialityNodes; ++j) {
+      const double r = biaxiality_node(j);
+      EXPECT_EQ(none.bending(alpha, r, nullptr, nullptr), kirchhoff.bending(alpha, r, nullptr, nullptr));
+    }
+    EXPECT_THROW(ConcentrationMap(curve, -0.1), InputError);
+    EXPECT_THROW(ConcentrationMap(curve, INFINITY), InputError);
+  }
+}
+
+// Every node's bending factors move to their blend with the same node's membrane factors at that
+// node's φ; the membrane's stay; the power law between the tool's nodes goes through the blended
+// ones; a curve without factors by corner is Kirchhoff's whatever the scale.
+TEST(ThickPlate, EachNodesBendingFactorsAreBlendedAtItsStencilsSize) {
+  TwoShapes shapes;
+  shapes.corners = shapes.tool = true;
+  const FillStiffnessCurve curve = shapes.curve(true);
+  const double scale = 0.02;
+  const ConcentrationMap kirchhoff(curve), K(curve, scale);
+  ASSERT_EQ(K.thick_scale(), scale);
+  const auto blend = [&](double kb, double km, double tau) {
+    const double phi = thick_round_transition(2 * scale / tau);
+    const double root = (1 - phi) * std::sqrt(kb) + phi * std::sqrt(km);
+    return root * root;
+  };
+  for (const double alpha : {curve.alpha[1], curve.alpha[3], 0.82})
+    for (int j = 0; j < kBiaxialityNodes; ++j) {
+      const double r = biaxiality_node(j);
+      for (int shape = 0; shape < 2; ++shape)
+        for (int node = 0; node < kToolNodes; ++node) {
+          const double tau = tool_node(node);
+          const double kb = kirchhoff.shape_factor(shape, true, alpha, &r, tau, nullptr, nullptr);
+          const double km = kirchhoff.shape_factor(shape, false, alpha, &r, tau, nullptr, nullptr);
+          const double now = K.shape_factor(shape, true, alpha, &r, tau, nullptr, nullptr);
+          // Blended on the samples: at a sample α exactly the blend of the factors, between samples
+          // the cubic through the blended samples.
+          if (alpha != 0.82) EXPECT_NEAR(now, blend(kb, km, tau), 1e-12 * now) << shape << ", node " << node;
+          EXPECT_EQ(K.shape_factor(shape, false, alpha, &r, tau, nullptr, nullptr), km);
+        }
+      // Between two nodes the power law through the blended factors.
+      const double mid = std::sqrt(tool_node(1) * tool_node(2));
+      const double at_mid = K.shape_factor(1, true, alpha, &r, mid, nullptr, nullptr);
+      EXPECT_NEAR(at_mid,
+                  std::sqrt(K.shape_factor(1, true, alpha, &r, tool_node(1), nullptr, nullptr) *
+                            K.shape_factor(1, true, alpha, &r, tool_node(2), nullptr, nullptr)),
+                  1e-12 * at_mid);
+      // The worst shape's factors: the largest of the shapes' node 0, blended (lower than
+      // Kirchhoff's where a cell's membrane factor is below its bending one, as here at α 0.9 and 1).
+      if (alpha != 0.82)
+        EXPECT_NEAR(K.bending(alpha, r, nullptr, nullptr),
+                    std::max(K.shape_factor(0, true, alpha, &r, tool_node(0), nullptr, nullptr),
+                             K.shape_factor(1, true, alpha, &r, tool_node(0), nullptr, nullptr)),
+                    1e-12 * K.bending(alpha, r, nullptr, nullptr));
+      EXPECT_EQ(K.membrane(alpha, r, nullptr, nullptr), kirchhoff.membrane(alpha, r, nullptr, nullptr));
+    }
+  // No factors by corner: nothing to blend.
+  const FillStiffnessCurve plain = TwoShapes{}.curve(true);
+  const ConcentrationMap unblended(plain, scale);
+  EXPECT_EQ(unblended.thick_scale(), 0.0);
+  const double r0 = 0;
+  EXPECT_EQ(unblended.shape_factor(1, true, 0.6, &r0, 0.05, nullptr, nullptr),
+            ConcentrationMap(plain).shape_factor(1, true, 0.6, &r0, 0.05, nullptr, nullptr));
+}
+
+// A model's map takes its corner radius against the shell's thickness; a summary reports the peak
+// with Kirchhoff's factors beside the part's, and the cover decision follows the blended map.
+TEST(ThickPlate, AModelsMapAndSummaryTakeTheStencilsAgainstTheThickness) {
+  TwoShapes shapes;
+  shapes.corners = shapes.tool = true;
+  test::CapFixture fx(77, BendingModel::ShapeOperator, FillStiffness::Homogenised);
+  MechanicsSettings mech = fx.model->mechanics();
+  mech.stiffness_curve = shapes.curve(true);
+  const Material material = test::pa12();
+  mech.corner_radius = 0;
+  EXPECT_EQ(ConcentrationMap::for_mechanics(mech, material).thick_scale(), 0.0) << "no corner radius";
+  mech.tool_radius = mech.corner_radius = 0.0005;
+  EXPECT_EQ(ConcentrationMap::for_mechanics(mech, material).thick_scale(), 0.0005 / material.thickness);
+  MechanicsSettings plain = mech;
+  plain.stiffness_curve = TwoShapes{}.curve(true);  // no factors by corner
+  EXPECT_EQ(ConcentrationMap::for_mechanics(plain, material).thick_scale(), 0.0);
+  MechanicsSettings circle = mech;
+  circle.stiffness_curve = dilute_circle(0.4, true);
+  EXPECT_TRUE(concentration_by_shape(circle, material));
+  circle.corner_radius = 0;
+  EXPECT_FALSE(concentration_by_shape(circle, material));
+
+  const ShellModel model(fx.mesh, material, fx.lc, mech);
+  const RowMatX3d x = fx.perturbed(78);
+  const Eigen::VectorXd alpha = varied_alpha(fx);
+  const EquilibriumSummary s = summarize_equilibrium(model, x, alpha);
+  EXPECT_EQ(s.W_peak_thick_scale, 0.0005 / material.thickness);
+  ASSERT_EQ(s.peak_energy_density_kirchhoff.size(), model.num_faces());
+  const Eigen::VectorXd kirchhoff = peak_energy_density(model, x, alpha, ConcentrationMap(mech.stiffness_curve));
+  EXPECT_EQ((s.peak_energy_density_kirchhoff - kirchhoff).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NE(s.W_peak_max, s.W_peak_kirchhoff_max);
+  EXPECT_EQ(s.W_peak_kirchhoff_max, kirchhoff.maxCoeff());
+
+  const ShellModel unblended(fx.mesh, material, fx.lc, plain);
+  const EquilibriumSummary p = summarize_equilibrium(unblended, x, alpha);
+  EXPECT_EQ(p.W_peak_thick_scale, 0.0);
+  EXPECT_TRUE(std::isnan(p.W_peak_kirchhoff_max));
+  EXPECT_EQ(p.peak_energy_density_kirchhoff.size(), 0);
+}
 }  // namespace
 }  // namespace cutwork::solvers
