@@ -400,7 +400,9 @@ void add_verify_command(CLI::App& app) {
       "(a `cutwork design --out DIR` folder), remesh it isotropically, graded along the outlines, simulate it without fill ratios and "
       "compare with the coarse fill-ratio run; writes DIR/verify/report.json (compliance, strain energy, maximum "
       "displacement of the material, W_max, the peak energy density recovered on the rims against the coarse "
-      "W_peak and the narrow ligaments' W_lig, energy density per coarse face, where they differ most), "
+      "W_peak and the narrow ligaments' W_lig — both Kirchhoff shells', the coarse W_peak with the cells' Kirchhoff "
+      "factors; the design's own W_peak, raised for the stencils against the thickness, is reported beside it — "
+      "energy density per coarse face, where they differ most), "
       "DIR/verify/fields.ply (coarse mesh: alpha, W, W_conforming, W_difference) and DIR/verify/conforming.ply");
   auto opts = std::make_shared<VerifyOptions>();
   cmd->add_option("DIR", opts->dir, "a design folder (report.json and stencils.json of `cutwork design`)")
