@@ -2,11 +2,13 @@
 /// A 3-D linear-elastic reference for a flat plate with holes: the stress at the holes' rims on the
 /// plate's face, to check the shell model's peak factors where Kirchhoff's plate is not the part.
 ///
-/// Why. The shell model is Kirchhoff's; its peak factors at a tool's rounds (radius r, 0.5 mm) are
-/// read in shells 3–12 mm thick (docs/DESIGN.md "The tool's cut"), where r ≪ t. There each layer of
-/// the plate acts in plane stress about the round, and the bending factor tends to the membrane one
-/// of the same hole (Reissner's circle in bending: Goodier's 1.79 for 2a ≫ t, about 3 for 2a ≪ t).
-/// This solver gives that factor without a plate theory: quadratic tetrahedra through the thickness.
+/// Why. The shell model is Kirchhoff's; its peak factors are read at holes of 1.5–100 mm and at a
+/// tool's 0.5 mm rounds in shells 3–30 mm thick. Where a hole is not large against the thickness the
+/// bending factor moves towards the membrane one of the same hole (Reissner's circle in bending:
+/// Goodier's 1.79 for 2a ≫ t, about 3 for 2a ≪ t), which W_peak's thick-plate rule takes from
+/// Roark's fit (solvers/objective/peak_energy_density.h "Thick plates"). This solver gives the
+/// factor without a plate theory — quadratic tetrahedra through the thickness — and showed which
+/// length the rule must read: the hole's size, not its rounds' radius (docs/DESIGN.md "Thick plates").
 ///
 /// What.
 ///  - Mesh: CGAL's constrained Delaunay mesher on the plate's outline and holes, graded in plane

@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -225,22 +226,26 @@ int layers_for(double half, double rim_edge) {
   return 12;
 }
 
-TEST(SolidPlate, DISABLED_StarAndCircleAgainstTheRule) {
-  const double r_tool = 1.0 / 8;
+/// The built-in star (bounding radius 1) with the drawn tip nearest +y (a vertex on the bounding
+/// circle) turned onto +y, plus `extra` radians, opened by a tool of radius `r_tool` (1° arcs): the
+/// hole and where that tip is.
+std::pair<std::vector<Vec2>, Vec2> turned_star(double r_tool, double extra) {
   const StencilShape star = make_builtin_stencil("star", {}, "star");
-  // The drawn tip nearest +y (a vertex on the bounding circle), turned onto +y (plus the scan's angle).
   const auto from_up = [](const Vec2& p) { return std::abs(std::atan2(p.x(), p.y())); };
   Vec2 tip = Vec2::Zero();
   for (const Vec2& p : star.polygon)
     if (p.norm() > 0.99 && (tip.norm() == 0 || from_up(p) < from_up(tip))) tip = p;
-  auto turned = [&](double extra) {
-    const double a = std::numbers::pi / 2 - std::atan2(tip.y(), tip.x()) + extra;
-    const Eigen::Rotation2Dd rot(a);
-    std::vector<Vec2> drawn;
-    for (const Vec2& p : star.polygon) drawn.push_back(rot * p);
-    const OpenedPolygon opened = open_polygon(drawn, r_tool, std::numbers::pi / 180);
-    return std::make_pair(opened.polygon, Vec2(rot * tip));
-  };
+  const double a = std::numbers::pi / 2 - std::atan2(tip.y(), tip.x()) + extra;
+  const Eigen::Rotation2Dd rot(a);
+  std::vector<Vec2> drawn;
+  for (const Vec2& p : star.polygon) drawn.push_back(rot * p);
+  const OpenedPolygon opened = open_polygon(drawn, r_tool, std::numbers::pi / 180);
+  return {opened.polygon, Vec2(rot * tip)};
+}
+
+TEST(SolidPlate, DISABLED_StarAndCircleAgainstTheRule) {
+  const double r_tool = 1.0 / 8;
+  const auto turned = [&](double extra) { return turned_star(r_tool, extra); };
   const double h = r_tool / 12;  // 12 edges per round radius
 
   // The angle scan (membrane, thin): the tip across the load, and turned by 10°, 20°.
@@ -292,6 +297,36 @@ TEST(SolidPlate, DISABLED_StarAndCircleAgainstTheRule) {
     std::printf("| %.2f | %.3f | %.3f | %.3f | %.3f | %+.1f%% |\n", x, c.k, c.peak_sigma_tt_any_z / c.nominal,
                 roark_bending(x), rule, 100 * (rule / c.k - 1));
     std::fflush(stdout);
+  }
+}
+
+// Measurement (not a test): the star's rounds sharper and its plate thicker, towards the chair's
+// (0.5 mm rounds on stars of 3.8–20.8 mm in 12 mm: r/s = 0.024–0.13, 2s/t = 0.63–3.5), against the
+// rule by 2s/t. 12 and 6 rim edges per round radius at r = 1/16 and 1/32 (the same absolute rim
+// edge, s/192), layers as above (at most 12 over the half thickness). 6 min, this build:
+//   r = s/16: k_m 9.161, k_b,thin 3.898; 2s/t = 2, 1, 0.5: k_3D 5.070, 5.463, 5.893 (largest at
+//   any z 5.711, 6.541, 7.412), the rule −2.7%, +7.6%, +17.6%;
+//   r = s/32: k_m 12.549, k_b,thin 4.738; k_3D 6.623, 7.124, 7.762 (7.948, 9.045, 10.229), the
+//   rule −5.3%, +7.7%, +19.1%.
+TEST(SolidPlate, DISABLED_SharperRoundsInThickerPlates) {
+  for (const double r_tool : {1.0 / 16, 1.0 / 32}) {
+    const auto [hole, tip_at] = turned_star(r_tool, 0.0);
+    const double hr = 1.0 / 192;
+    const StarCase km = star_case(hole, tip_at, PlateLoadKind::Membrane, r_tool / 4, hr, 1, 1.0);
+    const StarCase kb = star_case(hole, tip_at, PlateLoadKind::Bending, r_tool / 4, hr, 2, 1.0);
+    std::printf("\nstar, r = s/%.0f, rim edge r/%.0f: k_m %.3f, k_b,thin (2r/t = 8) %.3f\n", 1 / r_tool, r_tool / hr,
+                km.k, kb.k);
+    std::printf("| 2s/t | 2r/t | k_3D | largest at any z | rule by 2s/t | its error | unknowns | seconds |\n");
+    for (const double xs : {2.0, 1.0, 0.5}) {
+      const double t = 2.0 / xs;
+      const StarCase c = star_case(hole, tip_at, PlateLoadKind::Bending, t, hr, layers_for(t / 2, hr), 0.7);
+      const double phi = thick_round_transition(xs);
+      const double rule = (1 - phi) * kb.k + phi * km.k;
+      std::printf("| %.2f | %.3f | %.3f | %.3f | %.3f | %+.1f%% | %d | %.1f |%s\n", xs, 2 * r_tool / t, c.k,
+                  c.k_any_z, rule, 100 * (rule / c.k - 1), c.unknowns, c.seconds,
+                  c.at_focus ? "" : " (peak not at the focus tip)");
+      std::fflush(stdout);
+    }
   }
 }
 
