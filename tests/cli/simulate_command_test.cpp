@@ -179,6 +179,16 @@ TEST(CliSimulate, FactorsByShapeAndCornerAreReportedAndDesignAndSimulateAgree) {
   const double wp_design = design["structure"]["W_peak_max_final"], wp_sim = sim["equilibrium"]["W_peak_max"];
   EXPECT_NEAR(wp_sim, wp_design, 1e-6 * wp_design);
   EXPECT_GT(wp_sim, sim["equilibrium"]["W_max"].get<double>());
+  // The thick plate's transition (the minimum feature over the thickness), reported with the
+  // Kirchhoff plate's W_peak beside it, the same in both commands.
+  const double thick_scale =
+      scene["fabrication"]["min_feature"].get<double>() / scene["material"]["thickness"].get<double>();
+  EXPECT_DOUBLE_EQ(sim["equilibrium"]["W_peak_thick_scale"].get<double>(), thick_scale);
+  EXPECT_DOUBLE_EQ(design["structure"]["W_peak_thick_scale"].get<double>(), thick_scale);
+  const double kirchhoff_design = design["structure"]["W_peak_kirchhoff_max_final"],
+               kirchhoff_sim = sim["equilibrium"]["W_peak_kirchhoff_max"];
+  EXPECT_NEAR(kirchhoff_sim, kirchhoff_design, 1e-6 * kirchhoff_design);
+  EXPECT_NE(kirchhoff_sim, wp_sim);
 
   // The same stencils cut by a 0.5 mm tool (fabrication.tool_radius): the factors by corner are the
   // tool's (cells of the holes it cuts, at its nodes), read at the tool's radius; the stars' tips
