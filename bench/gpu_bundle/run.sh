@@ -12,7 +12,7 @@ for f in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json /usr/share/vulkan/
   /etc/vulkan/icd.d/nvidia_icd.json; do
   [ -f "$f" ] && export VK_DRIVER_FILES=$f && break
 done
-echo "ICD: ${VK_DRIVER_FILES:-the loader's search}"; nproc
+echo "ICD: ${VK_DRIVER_FILES:-none found, the loader searches}"; nproc
 # The test binary reads its data and the cutwork executable where its build put them: this
 # checkout stands in for the source tree there, the bundle's cutwork for the build's.
 root=$(sed -n 1p /tmp/cutwork-bundle/built_at)
