@@ -25,6 +25,7 @@
 
 #include "host/core/error.h"
 #include "host/core/timer.h"
+#include "host/stencil/stencil_shape.h"
 #include "solvers/linear/cholmod_solver.h"
 
 namespace cutwork::solvers {
@@ -38,23 +39,6 @@ using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds>;
 
 // ---------------------------------------------------------------------------------------------
 // Geometry helpers
-
-double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double s = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + s * ab - p).norm();
-}
-
-double signed_area(const std::vector<Vec2>& poly) {
-  double a = 0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2& p = poly[i];
-    const Vec2& q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return 0.5 * a;
-}
 
 bool point_in_polygon(const Vec2& p, const std::vector<Vec2>& poly) {
   bool inside = false;
@@ -88,7 +72,7 @@ class SizeField {
   double operator()(const Vec2& p) const {
     double d = std::numeric_limits<double>::infinity();
     for (const Vec2& q : m_points) d = std::min(d, (p - q).norm());
-    for (const auto& [a, b] : m_segments) d = std::min(d, point_segment_distance(p, a, b));
+    for (const auto& [a, b] : m_segments) d = std::min(d, segment_distance(a, b, p));
     return std::min(m_max, m_rim + m_growth * d);
   }
 
@@ -268,7 +252,7 @@ PlaneMesh mesh_plane(const std::vector<Vec2>& outer, const std::vector<std::vect
     for (int i = 0; i < 3; ++i) ++edge_count[key(t[i], t[(i + 1) % 3])];
   auto on_outline = [&](const Vec2& p) {
     for (std::size_t i = 0; i < outer.size(); ++i)
-      if (point_segment_distance(p, outer[i], outer[(i + 1) % outer.size()]) <= tolerance) return true;
+      if (segment_distance(outer[i], outer[(i + 1) % outer.size()], p) <= tolerance) return true;
     return false;
   };
   mesh.on_outer.assign(mesh.vertices.size(), 0);
@@ -367,7 +351,7 @@ void validate(const SolidPlateInput& in) {
   if (m.layers < 1 || m.layers > 64) fail("layers must lie in [1, 64]");
   if (!(m.layer_ratio > 0 && m.layer_ratio <= 1)) fail("layer_ratio must lie in (0, 1]");
   if (in.outer.size() < 3) fail("the outline needs at least 3 points");
-  if (!(signed_area(in.outer) > 0)) fail("the outline must be counter-clockwise");
+  if (!(polygon_signed_area(in.outer) > 0)) fail("the outline must be counter-clockwise");
   for (std::size_t h = 0; h < in.holes.size(); ++h) {
     if (in.holes[h].size() < 3) fail(fmt::format("hole {} needs at least 3 points", h));
     for (const Vec2& p : in.holes[h])
@@ -425,7 +409,7 @@ SolidPlateResult solve_solid_plate(const SolidPlateInput& input) {
   for (const auto& hole : input.holes) {
     holes.push_back(clean_loop(hole, tolerance));
     if (holes.back().size() < 3) throw InputError("solid plate: a hole has fewer than 3 distinct points");
-    if (signed_area(holes.back()) < 0) std::reverse(holes.back().begin(), holes.back().end());
+    if (polygon_signed_area(holes.back()) < 0) std::reverse(holes.back().begin(), holes.back().end());
     if (opt.focus.empty())
       for (std::size_t i = 0; i < holes.back().size(); ++i)
         rim_segments.emplace_back(holes.back()[i], holes.back()[(i + 1) % holes.back().size()]);
@@ -615,13 +599,13 @@ SolidPlateResult solve_solid_plate(const SolidPlateInput& input) {
     }
     std::vector<Vec2> pts;
     for (int w : loop) pts.push_back(plane.vertices[w]);
-    if (signed_area(pts) < 0) std::reverse(loop.begin(), loop.end());
+    if (polygon_signed_area(pts) < 0) std::reverse(loop.begin(), loop.end());
     // Its hole: the input hole nearest to its first vertex.
     int best = 0;
     double best_d = std::numeric_limits<double>::infinity();
     for (std::size_t h = 0; h < holes.size(); ++h)
       for (std::size_t i = 0; i < holes[h].size(); ++i) {
-        const double d = point_segment_distance(pts[0], holes[h][i], holes[h][(i + 1) % holes[h].size()]);
+        const double d = segment_distance(holes[h][i], holes[h][(i + 1) % holes[h].size()], pts[0]);
         if (d < best_d) best_d = d, best = static_cast<int>(h);
       }
     loops[best] = std::move(loop);
