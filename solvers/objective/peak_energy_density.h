@@ -123,11 +123,13 @@
 /// state is the moment's); the circle's fit by construction (K_b = Goodier², K_m = 9 give K_t(x)²).
 /// For another hole, x = 2s/h with s the stencil's bounding radius — the hole's size, not the
 /// radius of its rounds: 3-D elasticity (solvers/solid/solid_plate.h, quadratic tetrahedra) of the
-/// default star cut by a tool of s/8 reads, at 2r/h = 2, 1, 0.5, 0.25 (r the rounds' radius),
-/// surface factors 3.9–5.9% below the rule by 2s/h at 2 to 0.5 and 1.5% at 0.25, and 16–48% below
-/// the rule by 2r/h: the factor nears the membrane's only once the plate is thick against the
-/// whole star. On the circle the same 3-D reference reads 5–14% below Roark's fit (its free surface
-/// lowers the peak there, which Reissner's plate theory does not see), so the rule bounds it.
+/// default star cut by a tool of s/8, at 2s/h = 16, 8, 4, 2: the rule by 2s/h reads the face's peak
+/// 1.8–6.1% low, the rule by 2r/h (r the rounds' radius) 15–47% high: the factor nears the
+/// membrane's only once the plate is thick against the whole star. Rounds of s/16 and s/32 at
+/// 2s/h = 2, 1, 0.5: the rule within −6% and +19% of the face's peak (high where the plate is
+/// thicker), where Kirchhoff's factor read 23–39% low; their largest σ_tt through the depth is up
+/// to 32% above the face's, and the rule up to 21% under it. On the circle the 3-D face reads 2–11%
+/// below Roark's fit (its free face lowers the peak, which Reissner's plate theory does not see).
 /// The worst over orientations and rim points of the blend is at most the blend of the worsts.
 /// A face's stencils' scale is known through the factors by corner: at node e_c (the corner rule's
 /// ε_c = g/s or the tool's τ_c = r/s, the corner radius ρ = g or r) the stencils are of bounding
