@@ -641,7 +641,9 @@ TEST(ThickPlate, EachNodesBendingFactorsAreBlendedAtItsStencilsSize) {
           const double now = K.shape_factor(shape, true, alpha, &r, tau, nullptr, nullptr);
           // Blended on the samples: at a sample α exactly the blend of the factors, between samples
           // the cubic through the blended samples.
-          if (alpha != 0.82) EXPECT_NEAR(now, blend(kb, km, tau), 1e-12 * now) << shape << ", node " << node;
+          if (alpha != 0.82) {
+            EXPECT_NEAR(now, blend(kb, km, tau), 1e-12 * now) << shape << ", node " << node;
+          }
           EXPECT_EQ(K.shape_factor(shape, false, alpha, &r, tau, nullptr, nullptr), km);
         }
       // Between two nodes the power law through the blended factors.
@@ -653,11 +655,12 @@ TEST(ThickPlate, EachNodesBendingFactorsAreBlendedAtItsStencilsSize) {
                   1e-12 * at_mid);
       // The worst shape's factors: the largest of the shapes' node 0, blended (lower than
       // Kirchhoff's where a cell's membrane factor is below its bending one, as here at α 0.9 and 1).
-      if (alpha != 0.82)
+      if (alpha != 0.82) {
         EXPECT_NEAR(K.bending(alpha, r, nullptr, nullptr),
                     std::max(K.shape_factor(0, true, alpha, &r, tool_node(0), nullptr, nullptr),
                              K.shape_factor(1, true, alpha, &r, tool_node(0), nullptr, nullptr)),
                     1e-12 * K.bending(alpha, r, nullptr, nullptr));
+      }
       EXPECT_EQ(K.membrane(alpha, r, nullptr, nullptr), kirchhoff.membrane(alpha, r, nullptr, nullptr));
     }
   // No factors by corner: nothing to blend.
