@@ -437,7 +437,9 @@ TEST(PeakByShape, BelowTheToolsFirstNodeItsExponentIsHeldToACracks) {
         EXPECT_NEAR(da, fa, 1e-5 * std::max(1.0, std::abs(fa))) << tau;
         EXPECT_NEAR(dr, fr, 1e-5 * std::max(1.0, std::abs(fr))) << tau;
         EXPECT_NEAR(de, ft, 1e-5 * std::max(1.0, std::abs(ft))) << tau;
-        if (scale < 1) EXPECT_EQ(de, 0.0);
+        if (scale < 1) {
+          EXPECT_EQ(de, 0.0);
+        }
       }
     }
   }
