@@ -19,7 +19,8 @@ StencilledShell::StencilledShell(const SurfaceMesh& sim, const FaceBvh& surface_
   m_solver = std::make_unique<EquilibriumSolver>(*m_model, std::move(newton));
   // W_peak by shape reads the clip results after every evaluation (covered_by_shape): on a device,
   // download them with it rather than run the clip a second time.
-  if (concentration_by_shape(m_model->mechanics(), m_model->material())) fill_options.download_overlaps = true;
+  m_by_shape = concentration_by_shape(m_model->mechanics(), m_model->material());
+  if (m_by_shape) fill_options.download_overlaps = true;
   m_fill = std::make_unique<FillRatioEvaluator>(surface_bvh, m_sim_bvh, shapes, &field, fill_options);
   m_alpha = Eigen::VectorXd::Ones(sim.num_faces());
 }
@@ -50,6 +51,7 @@ const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilPara
     if (weights != m_weights) {
       m_model->set_stiffness_curve(
           resolve_fill_stiffness(m_mechanics, *m_shapes, m_material, stencils).stiffness_curve);
+      m_by_shape = concentration_by_shape(m_model->mechanics(), m_model->material());
       m_weights = std::move(weights);
     }
   }
@@ -61,8 +63,7 @@ const Eigen::VectorXd& StencilledShell::set_stencils(std::span<const StencilPara
   }
   // The cover by shape, where W_peak reads its factors by shape and by corner.
   m_cover = ShapeCover{};
-  if (concentration_by_shape(m_model->mechanics(), m_model->material()))
-    m_cover = shape_cover(*m_fill, stencils, m_model->mechanics().corner_radius, m_filter);
+  if (m_by_shape) m_cover = shape_cover(*m_fill, stencils, m_model->mechanics().corner_radius, m_filter);
   m_times.fill += sw.seconds();
   ++m_times.fills;
   return m_alpha;

@@ -129,6 +129,7 @@ class StencilledShell {
   Eigen::VectorXd m_alpha;       ///< B α (what the shell sees)
   Eigen::VectorXd m_face_alpha;  ///< α (with a filter; empty without)
   ShapeCover m_cover;              ///< cover(); empty when not by shape
+  bool m_by_shape = false;         ///< concentration_by_shape of the model's mechanics (its curve's map, built once)
   ShapeCover m_equilibrium_cover;  ///< m_cover of the last equilibrium (summary())
   std::vector<StencilParams> m_stencils;
   std::vector<StencilParams> m_equilibrium_stencils;
