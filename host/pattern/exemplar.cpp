@@ -10,28 +10,12 @@
 #include "host/core/error.h"
 #include "host/pattern/random.h"
 #include "host/scene/json_reader.h"
+#include "host/stencil/stencil_shape.h"
 
 namespace cutwork {
 using nlohmann::json;
 
 namespace {
-
-double signed_area(const std::vector<Vec2>& poly) {
-  double a = 0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const Vec2& p = poly[i];
-    const Vec2& q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return 0.5 * a;
-}
-
-double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
 
 bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   auto orient = [](const Vec2& o, const Vec2& p, const Vec2& q) {
@@ -88,7 +72,7 @@ double Exemplar::size() const {
   return (hi - lo).maxCoeff();
 }
 
-double Exemplar::area() const { return std::abs(signed_area(domain)); }
+double Exemplar::area() const { return std::abs(polygon_signed_area(domain)); }
 
 double Exemplar::mean_scale() const {
   double s = 0;
@@ -96,22 +80,12 @@ double Exemplar::mean_scale() const {
   return elements.empty() ? 1.0 : s / double(elements.size());
 }
 
-bool Exemplar::contains(const Vec2& p) const {
-  bool inside = false;
-  for (size_t i = 0, j = domain.size() - 1; i < domain.size(); j = i++) {
-    const Vec2& a = domain[i];
-    const Vec2& b = domain[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-      inside = !inside;
-  }
-  return inside;
-}
+bool Exemplar::contains(const Vec2& p) const { return !domain.empty() && point_in_polygon(domain, p); }
 
 double Exemplar::distance_to_boundary(const Vec2& p) const {
   double d = INFINITY;
   for (size_t i = 0; i < domain.size(); ++i)
-    d = std::min(d, segment_distance(p, domain[i], domain[(i + 1) % domain.size()]));
+    d = std::min(d, segment_distance(domain[i], domain[(i + 1) % domain.size()], p));
   return contains(p) ? d : -d;
 }
 
@@ -204,7 +178,7 @@ Exemplar parse_exemplar(const json& doc, const std::string& origin, const std::s
         if (segments_cross(ex.domain[i], ex.domain[(i + 1) % n], ex.domain[j], ex.domain[(j + 1) % n]))
           r.fail("domain", fmt::format("the polygon is not simple: edges {} and {} intersect", i, j));
       }
-    const double a = signed_area(ex.domain);
+    const double a = polygon_signed_area(ex.domain);
     if (!(std::abs(a) > 0)) r.fail("domain", "the polygon has zero area");
     if (a < 0) std::reverse(ex.domain.begin(), ex.domain.end());
   }

@@ -125,6 +125,17 @@ double segment_distance(const Vec2& a, const Vec2& b, const Vec2& p) {
   return (a + t * e - p).norm();
 }
 
+bool point_in_polygon(const std::vector<Vec2>& polygon, const Vec2& p) {
+  bool inside = false;
+  for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const Vec2& a = polygon[i];
+    const Vec2& b = polygon[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      inside = !inside;
+  }
+  return inside;
+}
+
 namespace {
 
 /// A shape's area, perimeter and inner radius from its polygon (in the reference frame).

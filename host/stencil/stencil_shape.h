@@ -79,6 +79,10 @@ double polygon_signed_area(const std::vector<Vec2>& polygon);
 /// Distance from `p` to the segment [a, b] (to a for a segment of no length).
 double segment_distance(const Vec2& a, const Vec2& b, const Vec2& p);
 
+/// Whether `p` lies inside the closed polygon `polygon` (either orientation; the even-odd rule, a
+/// point on an edge either way).
+bool point_in_polygon(const std::vector<Vec2>& polygon, const Vec2& p);
+
 /// A shape whose polygon is given in its reference frame as it is (counter-clockwise, simple, every
 /// |p| ≤ 1): not moved or rescaled, so it may lie strictly inside the unit circle — a stencil's
 /// shape cut down about the same centre and scale (stencil_opening.h). Area, perimeter and inner

@@ -40,18 +40,6 @@ using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds>;
 // ---------------------------------------------------------------------------------------------
 // Geometry helpers
 
-bool point_in_polygon(const Vec2& p, const std::vector<Vec2>& poly) {
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vec2& a = poly[i];
-    const Vec2& b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-      inside = !inside;
-  }
-  return inside;
-}
-
 /// Drops a closing point equal to the first and points that repeat their predecessor.
 std::vector<Vec2> clean_loop(const std::vector<Vec2>& loop, double tolerance) {
   std::vector<Vec2> out;
@@ -355,7 +343,7 @@ void validate(const SolidPlateInput& in) {
   for (std::size_t h = 0; h < in.holes.size(); ++h) {
     if (in.holes[h].size() < 3) fail(fmt::format("hole {} needs at least 3 points", h));
     for (const Vec2& p : in.holes[h])
-      if (!p.allFinite() || !point_in_polygon(p, in.outer)) fail(fmt::format("hole {} is not inside the outline", h));
+      if (!p.allFinite() || !point_in_polygon(in.outer, p)) fail(fmt::format("hole {} is not inside the outline", h));
   }
 }
 
