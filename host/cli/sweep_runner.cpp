@@ -22,6 +22,7 @@
 #include "host/core/json_io.h"
 #include "host/sweep/pareto_plot.h"
 #include "host/pattern/pattern_context.h"
+#include "solvers/report/design_memory.h"
 #include "solvers/report/design_report.h"
 
 namespace cutwork::cli {
@@ -51,15 +52,6 @@ size_t parse_memory_size(const std::string& text, const std::string& what) {
   return size_t(v * scale);
 }
 
-size_t estimate_design_memory(const SceneMeshes& meshes) {
-  // Peak resident memory of single designs (1 thread, /usr/bin/time): the bowl at its edge
-  // lengths and at 1/2 and 1/4 of them — 2646/1350, 11094/5400, 44376/22326 base/simulated
-  // triangles — peaked at 32, 51 and 149 MB: about 30 MB (the process, the pattern context) and
-  // 2 kB per base and per simulated triangle (the cut, clip pairs, the CHOLMOD factor). Doubled as
-  // a margin (more stencils mean more clip pairs).
-  const double fixed = 30e6, per_face = 2e3;
-  return size_t(2 * (fixed + per_face * double(meshes.base.num_faces() + meshes.sim.num_faces())));
-}
 
 std::vector<std::string> SweepPlan::axis_pointers() const {
   std::vector<std::string> p;
@@ -183,7 +175,7 @@ VariantResult run_variant(const SweepPlan& plan, size_t i, const std::string& de
     o.fill = d.fill;
     info.timings.add("device", sw.seconds());
     const json report = solvers::design_into_folder(plan.scenes[i], dir, o, std::move(info), [&](const SceneMeshes& m) {
-      if (reserve) reserve(estimate_design_memory(m));
+      if (reserve) reserve(solvers::estimate_design_memory(m, plan.discretisation_estimate));
     });
     r.take_report(report);
     r.ok = true;
@@ -240,10 +232,11 @@ void SweepProgress::finish() {
 namespace {
 
 /// Bytes of a budget shared by concurrent variants: reserve blocks until enough is free. A
-/// variant larger than the whole budget waits until it runs alone.
+/// variant larger than what is left of the budget once `held` (what the process holds whatever
+/// the variants) is set aside waits until it runs alone. `total` 0: no budget.
 class MemoryBudget {
  public:
-  explicit MemoryBudget(size_t total) : m_total(total) {}
+  MemoryBudget(size_t total, size_t held) : m_total(total == 0 ? 0 : std::max<size_t>(1, total - std::min(total, held))) {}
   size_t reserve(size_t bytes) {
     if (m_total == 0) return 0;
     bytes = std::min(bytes, m_total);
@@ -289,7 +282,14 @@ size_t run_sweep_local(const SweepPlan& plan, const SweepOptions& options) {
   const int J = std::max(1, std::min({options.jobs > 0 ? options.jobs : T, int(todo.size())}));
   const int per_job = std::max(1, T / J);
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(std::max(T, J * per_job)));
-  MemoryBudget budget(options.memory.empty() ? 0 : parse_memory_size(options.memory, "--memory"));
+  // The process and one calibration at a time are held once, whatever the variants.
+  const size_t total = options.memory.empty() ? 0 : parse_memory_size(options.memory, "--memory");
+  const size_t held = solvers::kProcessMemory + solvers::calibration_memory(plan.scenes, per_job);
+  if (total > 0 && total <= held && !options.quiet)
+    std::cerr << fmt::format("note: --memory {} is not more than the process and one stiffness calibration hold "
+                             "({:.2f} GB): the variants run one at a time\n",
+                             options.memory, double(held) / 1e9);
+  MemoryBudget budget(total, held);
   std::atomic<size_t> next{0};
   std::mutex record_mutex;
   tbb::task_arena outer(J, 1);

@@ -49,9 +49,6 @@ struct SweepOptions {
 /// optional B ("512M", "8G", "1.5GB"). Throws InputError naming `what`.
 size_t parse_memory_size(const std::string& text, const std::string& what);
 
-/// Estimated peak memory (bytes) of one design on these meshes, calibrated on the built-in
-/// scenes (docs/SWEEP.md) with a margin.
-size_t estimate_design_memory(const SceneMeshes& meshes);
 
 /// The sweep, expanded and validated, with its output folder.
 struct SweepPlan {

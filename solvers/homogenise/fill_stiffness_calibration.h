@@ -38,8 +38,8 @@
 /// tool node (about 2 s). A shape's cells run side by side, each alone in an arena of one thread,
 /// and read to the last bit as they do one after the other (the default star's calibration by the
 /// tool: 28.4 s on one thread, 14.7 s on two, BM_ToolCalibration; peak resident memory 447 MB and
-/// 791 MB: about 350 MB per tool cell at once, up to the thread budget's multiple of it; a sweep's
-/// memory estimate, host/cli/sweep_runner.cpp, does not count a calibration). Results are kept in
+/// 791 MB: about 350 MB per tool cell at once, up to the thread budget's multiple of it; a sweep
+/// sets one calibration's memory aside, solvers/report/design_memory.h). Results are kept in
 /// memory for the process, keyed by shape polygon, ν, the cell options and the samples, so a sweep
 /// or a benchmark pays once. One calibration runs at a time in a process (a lock around the
 /// computation and the cache): concurrent callers wait for the curve instead of computing it again.

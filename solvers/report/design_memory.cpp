@@ -1,0 +1,58 @@
+#include "solvers/report/design_memory.h"
+
+#include <algorithm>
+
+#include "solvers/conforming/discretisation_estimate.h"
+
+namespace cutwork::solvers {
+
+size_t largest_refined_level(size_t sim_faces) {
+  const DiscretisationOptions o;
+  size_t largest = 4 * sim_faces;  // h/2 is always made
+  size_t faces = sim_faces;
+  for (int k = 0; k < o.refinements + o.extra_refinements; ++k) {
+    faces *= 4;
+    if (faces > size_t(o.max_faces)) break;
+    largest = faces;
+  }
+  return largest;
+}
+
+size_t estimate_design_memory(const SceneMeshes& meshes, bool discretisation_estimate) {
+  // Peak resident memory of single designs on one thread (/usr/bin/time), the process's own 28 MB
+  // aside (kProcessMemory) and with the linear rule (no calibration: calibration_memory). The bowl
+  // at its edge lengths and at 1/2 and 1/4 of them (2646/1350, 11094/5400, 44376/22326 base/
+  // simulated triangles) peaked at 95, 119 and 388 MB without the discretisation estimate: the
+  // pattern context, the cut and the files (~2 kB per base triangle), the shell model with its
+  // element Hessians and the Cholesky factor (~12 kB per simulated triangle at 22k, growing with
+  // the factor's fill) and about 55 MB besides, held here with a margin of 1.5 (more stencils mean
+  // more clip pairs). With the estimate they peaked at 233, 776 and 882 MB, the pavilion (h/8
+  // solved) at 398 MB: a level's mesh, model and factor, 6.9–8 kB per triangle at 21.6k–89k, held
+  // at 9 kB for the largest level that may be solved. That counts h/8, which a design solves only
+  // where the first three levels have not settled (the pavilion's does; the bowl's, the table's
+  // and the chair's do not, and reserve 3–7× what they use).
+  const double design = 55e6 + 2e3 * double(meshes.base.num_faces()) + 12e3 * double(meshes.sim.num_faces());
+  const double level = discretisation_estimate ? 9e3 * double(largest_refined_level(meshes.sim.num_faces())) : 0.0;
+  return size_t(1.5 * design + level);
+}
+
+size_t calibration_memory(std::span<const Scene> scenes, int threads) {
+  // A calibration solves its cells side by side, one per thread, each cut, remeshed and factorised
+  // alone. `cutwork simulate` of the built-in scenes (the uncut shell: the calibration is all it
+  // holds beyond the process's 28 MB, measured with the linear rule) peaked at 155–242 MB on one
+  // thread and 191–303 MB on two (the drawn holes' cells, 10³–2·10⁴ triangles: up to 214 MB for
+  // the largest, 36–61 MB more for a second at once); BM_ToolCalibration's default star by the
+  // tool at 447 and 791 MB (3–5·10⁴ triangles, about 350 MB more per cell at once). Held as the
+  // largest cell's at every thread.
+  bool any = false, tool = false;
+  for (const Scene& s : scenes)
+    if (s.mechanics.stiffness == FillStiffness::Homogenised) {
+      any = true;
+      tool = tool || s.mechanics.tool_radius > 0;
+    }
+  if (!any) return 0;
+  const double per_cell = tool ? 420e6 : 220e6;
+  return size_t(per_cell * std::max(1, threads));
+}
+
+}  // namespace cutwork::solvers
