@@ -152,8 +152,8 @@ struct CellStiffness {
   double fill_ratio = 0;             ///< α asked for
   double window_fill_ratio = 0;      ///< material area of the meshed cell / cell area (≈ α)
   double scale = 0;                  ///< stencil scale s (bounding radius) in lattice spacings
-  Eigen::Matrix3d membrane;          ///< C* (N/m), Voigt (ε_xx, ε_yy, γ_xy)
-  Eigen::Matrix3d bending;           ///< D* (N·m), Voigt (κ_xx, κ_yy, 2κ_xy)
+  Eigen::Matrix3d membrane = Eigen::Matrix3d::Zero();  ///< C* (N/m), Voigt (ε_xx, ε_yy, γ_xy)
+  Eigen::Matrix3d bending = Eigen::Matrix3d::Zero();   ///< D* (N·m), Voigt (κ_xx, κ_yy, 2κ_xy)
   double membrane_factor = 0;        ///< g_m = tr(C* C⁻¹)/3
   double bending_factor = 0;         ///< g_b = tr(D* D⁻¹)/3
   /// The isotropic split (fill_stiffness_map.h): bulk and shear moduli of the isotropic projection
