@@ -1,8 +1,10 @@
 // The shape-operator bending element (shape_operator_energy.h): derivatives against central
 // differences, and its energy on exact cylinders, spheres and twists against Kirchhoff's
 // D/2 [ν (tr k)² + (1−ν) tr k²] on near-equilateral, right-triangle and irregular meshes, for several
-// ν and every in-plane direction. The hinge model is measured on the same surfaces to document its
-// Poisson coupling (ν = −1/3 whatever the material).
+// ν and every in-plane direction; at a clamped edge, the ghost against the plate continued across
+// the clamp (exact for fields even across it, not for odd ones). The hinge model is measured on the
+// same surfaces to document its Poisson coupling (ν = −1/3 whatever the material).
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -300,6 +302,144 @@ TEST(ShapeOperatorEnergy, MatchesKirchhoffOnCylindersSpheresAndTwistsOnAnyMesh) 
   }
   std::cout << "shape operator vs Kirchhoff (worst |ratio - 1| = " << worst << ")\n" << table;
   EXPECT_LT(worst, 0.01) << table;
+}
+
+// ---- the clamp's ghost -------------------------------------------------------------------------
+
+/// w = a xᵖ nᵠ (p ≤ 2, q ≤ 3), n = y − y0 the distance from the clamped side y = y0.
+HeightField clamp_field(std::string name, double a, int p, int q, double y0) {
+  auto mono = [](double t, int e, int d) {  // d-th derivative of tᵉ
+    double c = 1;
+    for (int k = 0; k < d; ++k) c *= e - k;
+    return e < d ? 0.0 : c * std::pow(t, e - d);
+  };
+  auto term = [=](const Vec2& r, int dx, int dn) { return a * mono(r.x(), p, dx) * mono(r.y() - y0, q, dn); };
+  return {std::move(name), [=](const Vec2& r) { return term(r, 0, 0); },
+          [=](const Vec2& r) { return Vec2(term(r, 1, 0), term(r, 0, 1)); },
+          [=](const Vec2& r) {
+            Eigen::Matrix2d H;
+            H << term(r, 2, 0), term(r, 1, 1), term(r, 1, 1), term(r, 0, 2);
+            return H;
+          }};
+}
+
+TEST(ShapeOperator, AClampedEdgesGhostIsExactForFieldsEvenAcrossIt) {
+  // A flat plate clamped (fixed + clamped) along its lowest side n = y − y0 = 0 and lifted by small
+  // fields w with w = w_n = 0 on the clamp (curvatures ≈ κ, κh = 1e-3). Every face with an edge on
+  // the clamp (and real neighbours across its other two edges) gets a ghost: its opposite vertex C
+  // mirrored across the edge, at the height of C (w_ghost = w_C). For a field even in n that is w
+  // at the mirror point M = (x_C, y0 − n_C), so the face must read exactly what it would read if
+  // the plate went on across the clamp: the same face given M as a real sixth node at height w(M)
+  // ("the continued plate"). On the four meshes (near-equilateral, right-triangle, both jittered):
+  //  * even fields ½κn², c·x·n², c·x²·n²: energy and curvature agree with the continued plate's to
+  //    round-off (worst 4.7e-15 relative); asserted to 1e-9.
+  //  * against Kirchhoff, U = A·D/2 [ν (tr k)² + (1−ν) tr k²]: ½κn² has constant curvature, which
+  //    the quadratic patch reproduces: exact to 1.7e-7 (geometric nonlinearity) on every mesh.
+  //    c·x·n² is cubic, its curvature varies over the face, and the element (one constant k per
+  //    face: the interpolant of the six nodes) matches neither the curvature at the centroid
+  //    (per-face |U/U_centroid − 1| up to 0.4–1.3) nor the energy integrated over the face (up to
+  //    0.1 near-equilateral, 0.8 right-triangle). On the two regular meshes it reads the exact
+  //    curvature halfway from C to the clamp, at (x_C, n_C/2), to 1e-10: w_nn at x_C (the
+  //    centroid's x on the near-equilateral mesh, s/3 past it on the grid of spacing s) and the
+  //    twist w_xn at half the face's height, 1.5× its centroid value. Irregular meshes read no
+  //    single point.
+  //  * the odd field c·n³ (the clamp's shear force) is missed: the ghost carries +w_C where the
+  //    field has −w_C, and the curvature differs from the continued plate's by |k| on the regular
+  //    meshes and by ≥ 0.6|k| on the jittered ones (asserted > 0.3|k|). On the regular meshes the
+  //    continued plate reads w_nn on the clamp line (0, as an interior face with an edge on a
+  //    lattice row reads w_nn on that row), while the ghost face reads w_nn at its centroid height
+  //    n_C/3 (= 2c·n_C; energy to 1.3e-7), whose energy is 2/3 of the field's energy integrated
+  //    over the face (1e-7).
+  const double nu = 0.3;
+  for (const TestMesh& tm : test_meshes()) {
+    SCOPED_TRACE(tm.name);
+    const SurfaceMesh& mesh = tm.mesh;
+    const double y0 = mesh.bbox_min().y(), h = mesh.mean_edge_length(), kappa = 1e-3 / h;
+    const bool regular = tm.name.find("irregular") == std::string::npos;
+    Material mat;
+    mat.youngs_modulus = 1e9;
+    mat.poisson_ratio = nu;
+    mat.thickness = 0.01;
+    mat.density = 0;
+    LoadCase lc;
+    lc.fixed.assign(mesh.num_vertices(), false);
+    for (int v : test::select_vertices(mesh, [&](const Vec3& p) { return p.y() < y0 + 1e-9; })) lc.fixed[v] = true;
+    lc.clamped = lc.fixed;
+    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+    lc.forces(mesh.num_vertices() / 2, 2) = -1;
+    const ShellModel model(mesh, mat, lc, MechanicsSettings{});
+    const double D = model.stiffness().bending;
+    const Eigen::Matrix3d& C = model.bending_constitutive();
+    // Elements of the faces on the clamp: one ghost and two real neighbours (a corner face with a
+    // free edge as well condenses a mode: its reading is no longer the patch's interpolant).
+    std::vector<int> on_clamp;
+    for (int e = 0; e < model.num_elements(); ++e) {
+      const ElementRef ref = model.element(e);
+      if (ref.kind != ElementKind::Bend) continue;
+      const ShellBend& b = model.bends()[ref.index];
+      const auto count = [&](PatchNode p) { return std::count(b.rest.across.begin(), b.rest.across.end(), p); };
+      if (count(PatchNode::Ghost) == 1 && count(PatchNode::Vertex) == 2) on_clamp.push_back(e);
+    }
+    ASSERT_GE(on_clamp.size(), 20u);
+
+    // Curvatures ≈ κ: κh = 1e-3 (x ∈ [−½, ½]).
+    const std::vector<HeightField> even = {clamp_field("k/2 n^2", 0.5 * kappa, 0, 2, y0),
+                                           clamp_field("c x n^2", kappa, 1, 2, y0),
+                                           clamp_field("c x^2 n^2", kappa, 2, 2, y0)};
+    const HeightField odd = clamp_field("c n^3", 0.5 * kappa / h, 0, 3, y0);
+    for (const HeightField* s : {&even[0], &even[1], &even[2], &odd}) {
+      SCOPED_TRACE(s->name);
+      const RowMatX3d x = lift(mesh, *s);
+      ElementEnergies unit;
+      shell_energy(model, x, Eigen::VectorXd::Ones(model.num_faces()), &unit);
+      for (int e : on_clamp) {
+        const ShellBend& b = model.bends()[model.element(e).index];
+        const int g = b.rest.across[0] == PatchNode::Ghost ? 0 : b.rest.across[1] == PatchNode::Ghost ? 1 : 2;
+        // The element as the model sees it (the ghost slot is not a DOF: left zero).
+        std::array<Vec3, 6> X;
+        Vec18 xp = Vec18::Zero();
+        for (int a = 0; a < 6; ++a) {
+          if (b.v[a] < 0) continue;
+          X[a] = mesh.vertices().row(b.v[a]).transpose();
+          xp.segment<3>(3 * a) = x.row(b.v[a]).transpose();
+        }
+        const Vec3 k = shape_operator_strain(xp, b.rest);
+        const double U = unit[e];
+        SCOPED_TRACE(fmt::format("face {} (n_C / h = {:.3f})", b.face, (X[g].y() - y0) / h));
+        ASSERT_NEAR(U, shape_operator_energy(xp, b.rest, C, D), 1e-12 * U);
+        // The continued plate: the mirror point a real node, at the field's height there.
+        const Vec2 M(X[g].x(), 2 * y0 - X[g].y());
+        X[3 + g] = Vec3(M.x(), M.y(), 0);
+        Vec18 xc = xp;
+        xc.segment<3>(3 * (3 + g)) = Vec3(M.x(), M.y(), s->f(M));
+        const ShapeOperatorRest continued =
+            shape_operator_rest(X, {PatchNode::Vertex, PatchNode::Vertex, PatchNode::Vertex}, nu);
+        const Vec3 kc = shape_operator_strain(xc, continued);
+        const double Uc = shape_operator_energy(xc, continued, C, D);
+        const Vec2 centroid = ((X[0] + X[1] + X[2]) / 3.0).head<2>();
+        const double nC = X[g].y() - y0;
+        if (s != &odd) {
+          EXPECT_NEAR(U, Uc, 1e-9 * Uc);
+          EXPECT_LT((k - kc).norm(), 1e-9 * kc.norm());
+          if (s == &even[0]) {
+            EXPECT_NEAR(U, b.rest.area * kirchhoff_density(second_fundamental_form(*s, centroid), D, nu), 1e-6 * U);
+          } else if (s == &even[1] && regular) {
+            const Vec2 read_at(X[g].x(), y0 + 0.5 * nC);  // halfway from C to the clamp
+            EXPECT_NEAR(U, b.rest.area * kirchhoff_density(second_fundamental_form(*s, read_at), D, nu), 1e-6 * U);
+          }
+        } else {
+          EXPECT_GT((k - kc).norm(), 0.3 * k.norm());
+          if (regular) {
+            EXPECT_NEAR(U, b.rest.area * kirchhoff_density(second_fundamental_form(*s, centroid), D, nu), 1e-6 * U);
+            EXPECT_LT(Uc, 1e-12 * U);  // w_nn on the clamp line: 0
+            // ∫ over the face of (6c·n)², two vertices at n = 0: 6c²·n_C²·A (c = κ/2h; D/2·tr k²).
+            const double c = 0.5 * kappa / h, integrated = 0.5 * D * 36 * c * c * nC * nC / 6 * b.rest.area;
+            EXPECT_NEAR(U / integrated, 2.0 / 3.0, 1e-6);
+          }
+        }
+      }
+    }
+  }
 }
 
 /// Σ hinge energy / Σ hinge area (Ā = (A_i + A_j)/3) over hinges away from the boundary.
