@@ -463,7 +463,16 @@ void add_verify_command(CLI::App& app) {
                   "compared with reads the tool's rounds too (default: the scene's fabrication.tool_radius; 0: the "
                   "outlines as drawn, the rim within fabrication.min_feature of their sharp corners left out)")
       ->check(finite_number())
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(CLI::Range(0.0, 1.0))
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const double r = std::stod(text);
+            return r > 0 && r < kMinToolRadius
+                       ? fmt::format("{:g} m is finer than any tool rounds a corner (at least {:g} m; 0: sharp corners)",
+                                     r, kMinToolRadius)
+                       : std::string();
+          },
+          "TOOL", "a tool's radius"));
   cmd->add_option("--threads", opts->threads, "number of CPU threads (0: all)")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();

@@ -412,6 +412,9 @@ FabricationSettings parse_fabrication_section(JsonObjectReader& root) {
   FabricationSettings fabrication;
   fabrication.min_feature = f.number("min_feature", FabricationSettings{}.min_feature, 0, 10);
   fabrication.tool_radius = f.number("tool_radius", FabricationSettings{}.tool_radius, 0, 1);
+  if (fabrication.tool_radius > 0 && fabrication.tool_radius < kMinToolRadius)
+    f.fail("tool_radius", format_number(fabrication.tool_radius) + " m is finer than any tool rounds a corner (at least " +
+                              format_number(kMinToolRadius) + " m; 0: sharp corners)");
   f.finish();
   return fabrication;
 }

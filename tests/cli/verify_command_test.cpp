@@ -207,5 +207,12 @@ TEST(CliVerify, AFolderWithoutADesignIsAOneLineError) {
   fs::remove_all(dir);
 }
 
+TEST(CliVerify, AToolFinerThanAnyCutterIsRefused) {
+  const auto r = run_cutwork("verify " + test::temp_dir("verify_tool").string() + " --tool-radius 1e-9 --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("1e-09 m is finer than any tool rounds a corner"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace cutwork

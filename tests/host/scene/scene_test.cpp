@@ -68,6 +68,11 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   d = minimal_scene();
   d["fabrication"] = {{"tool_radius", -0.001}};
   expect_rejected(d, {"/fabrication/tool_radius", "[0, 1]"});
+  // A tool finer than any cutter (W_peak read its rounds at 1 nm as 8e9 J/m² on the chair).
+  d["fabrication"] = {{"tool_radius", 1e-9}};
+  expect_rejected(d, {"/fabrication/tool_radius", "1e-09 m is finer than any tool", "1e-05"});
+  d["fabrication"] = {{"tool_radius", kMinToolRadius}};
+  EXPECT_EQ(parse_scene(d, "test").fabrication.tool_radius, kMinToolRadius);
   d["fabrication"] = {{"tool_radius", 0.0005}};
   EXPECT_EQ(parse_scene(d, "test").fabrication.tool_radius, 0.0005);
   EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["fabrication"]["tool_radius"], 0.0005);
