@@ -9,13 +9,34 @@
 #include "host/cli/commands.h"
 #include "host/cli/sweep_mpi.h"
 #include "host/cli/sweep_runner.h"
+#include "solvers/report/design_memory.h"
 
 namespace cutwork::cli {
 
 namespace {
 
-void print_variants(const SweepPlan& plan) {
-  for (const SweepVariant& v : plan.variants) std::cout << v.id << "  " << describe_values(plan.spec, v.values) << "\n";
+/// The variants, one line each; with --memory also what each would reserve of it (its meshes are
+/// built for that) and what the sweep sets aside once (docs/SWEEP.md "Memory").
+void print_variants(const SweepPlan& plan, const SweepOptions& opts) {
+  const bool memory = !opts.memory.empty();
+  for (size_t i = 0; i < plan.variants.size(); ++i) {
+    const SweepVariant& v = plan.variants[i];
+    std::cout << v.id << "  " << describe_values(plan.spec, v.values);
+    if (memory) {
+      const SceneMeshes meshes = build_scene_meshes(plan.scenes[i]);
+      std::cout << fmt::format("  (reserves {:.0f} MB: {} base, {} simulated triangles)",
+                               double(solvers::estimate_design_memory(meshes, plan.discretisation_estimate)) / 1e6,
+                               meshes.base.num_faces(), meshes.sim.num_faces());
+    }
+    std::cout << "\n";
+  }
+  if (memory) {
+    const SweepJobs jobs = sweep_jobs(opts, plan.variants.size());
+    std::cout << fmt::format("set aside once: {:.0f} MB (the process and one stiffness calibration on {} thread(s) "
+                             "per variant) of --memory {}\n",
+                             double(solvers::kProcessMemory + solvers::calibration_memory(plan.scenes, jobs.per_job)) / 1e6,
+                             jobs.per_job, opts.memory);
+  }
 }
 
 void report_done(const SweepPlan& plan, const SweepOptions& opts, size_t ran, const std::vector<VariantResult>& results) {
@@ -35,7 +56,7 @@ void run_sweep_command(const SweepOptions& opts) {
   MpiSession mpi;  // a no-op unless built with MPI and started by mpirun with more than one rank
   SweepPlan plan = mpi.guard([&] { return plan_sweep(opts); });
   if (opts.list) {
-    if (mpi.rank() == 0) print_variants(plan);
+    if (mpi.rank() == 0) print_variants(plan, opts);
     return;
   }
   if (mpi.size() > 1) {

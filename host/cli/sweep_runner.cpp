@@ -273,14 +273,20 @@ void single_threaded_blas() {
     }
 }
 
+SweepJobs sweep_jobs(const SweepOptions& options, size_t variants) {
+  SweepJobs j;
+  j.threads = options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
+  j.jobs = std::max(1, std::min({options.jobs > 0 ? options.jobs : j.threads, int(variants)}));
+  j.per_job = std::max(1, j.threads / j.jobs);
+  return j;
+}
+
 size_t run_sweep_local(const SweepPlan& plan, const SweepOptions& options) {
   single_threaded_blas();
   const std::vector<size_t> todo = plan.pending();
   SweepProgress progress(options.quiet, plan.variants.size(), plan.variants.size() - todo.size());
   if (todo.empty()) return 0;
-  const int T = options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
-  const int J = std::max(1, std::min({options.jobs > 0 ? options.jobs : T, int(todo.size())}));
-  const int per_job = std::max(1, T / J);
+  const auto [T, J, per_job] = sweep_jobs(options, todo.size());
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(std::max(T, J * per_job)));
   // The process and one calibration at a time are held once, whatever the variants.
   const size_t total = options.memory.empty() ? 0 : parse_memory_size(options.memory, "--memory");

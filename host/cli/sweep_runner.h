@@ -50,6 +50,14 @@ struct SweepOptions {
 size_t parse_memory_size(const std::string& text, const std::string& what);
 
 
+/// How a local sweep spreads `variants` variants over the threads (SweepOptions::threads, jobs).
+struct SweepJobs {
+  int threads = 1;  ///< T: all of this process's (0 in the options: the hardware's)
+  int jobs = 1;     ///< J: variants at once (the options' jobs, or T; at most `variants`)
+  int per_job = 1;  ///< each variant's arena: max(1, T / J)
+};
+SweepJobs sweep_jobs(const SweepOptions& options, size_t variants);
+
 /// The sweep, expanded and validated, with its output folder.
 struct SweepPlan {
   SweepSpec spec;

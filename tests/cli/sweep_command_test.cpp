@@ -8,9 +8,12 @@
 #include <set>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "host/scene/scene.h"
 #include "host/sweep/sweep_results.h"
+#include "solvers/report/design_memory.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {
@@ -242,6 +245,23 @@ TEST(SweepCommandInput, ListPrintsTheVariantsAndWritesNothing) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4);
   EXPECT_NE(r.out.find("v004  /material/thickness = 0.004, /supports/0/select/x/below = -1"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+
+  // With --memory, what each variant would reserve and what the sweep sets aside once (the plate:
+  // 1944 base and 492 simulated triangles; the discretisation estimate's h/8 level 31,488).
+  const auto m = run_cutwork("sweep " + sweep.string() + " --out " + (dir / "out").string() +
+                             " --list --memory 4G --jobs 2 --threads 2");
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  EXPECT_EQ(std::count(m.out.begin(), m.out.end(), '\n'), 5) << m.out;
+  const SceneMeshes plate = build_scene_meshes(load_scene("plate"));
+  EXPECT_NE(m.out.find(fmt::format("(reserves {:.0f} MB: 1944 base, 492 simulated triangles)",
+                                   double(solvers::estimate_design_memory(plate, true)) / 1e6)),
+            std::string::npos)
+      << m.out;
+  EXPECT_NE(m.out.find("set aside once: 260 MB (the process and one stiffness calibration on 1 thread(s) per variant) "
+                       "of --memory 4G"),
+            std::string::npos)
+      << m.out;
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
