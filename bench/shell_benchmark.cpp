@@ -58,6 +58,24 @@ void BM_ShellAssembly_Tbb(benchmark::State& state) {
 }
 BENCHMARK(BM_ShellAssembly_Tbb)->Apply(size_and_threads)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+/// Building the model: the rest state of every element (the shape operator's patch fit, one SVD per
+/// face), the support check and the assembly's pattern; every refined level of the discretisation
+/// estimate and of verify builds one.
+void BM_ShellModelBuild(benchmark::State& state) {
+  const bench::BenchModel& bm = bench::bench_model(int(state.range(0)));
+  tbb::task_arena arena(int(state.range(1)));
+  for (auto _ : state) {
+    arena.execute([&] {
+      const ShellModel model(*bm.mesh, bm.model->material(), bm.model->load_case());
+      benchmark::DoNotOptimize(model.num_elements());
+    });
+  }
+  state.counters["faces"] = bm.mesh->num_faces();
+  state.counters["faces/s"] =
+      benchmark::Counter(double(bm.mesh->num_faces()) * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_ShellModelBuild)->Apply(size_and_threads)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_ShellEnergy_Tbb(benchmark::State& state) {
   const ShellModel& model = *bench::bench_model(int(state.range(0))).model;
   tbb::task_arena arena(int(state.range(1)));
