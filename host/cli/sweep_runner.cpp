@@ -52,7 +52,6 @@ size_t parse_memory_size(const std::string& text, const std::string& what) {
   return size_t(v * scale);
 }
 
-
 std::vector<std::string> SweepPlan::axis_pointers() const {
   std::vector<std::string> p;
   for (const SweepAxis& a : spec.axes) p.push_back(a.pointer);

@@ -307,32 +307,32 @@ void ShellModel::build_bends() {
   // Each face's rest state alone (its patch, an SVD of the patch's quadratic fit): in parallel, the
   // same to the bit whatever the threads.
   tbb::parallel_for(tbb::blocked_range<int>(0, nf, 256), [&](const tbb::blocked_range<int>& faces) {
-  for (int f = faces.begin(); f < faces.end(); ++f) {
-    ShellBend& b = m_bends[f];
-    b.face = f;
-    std::array<Vec3, 6> rest;
-    std::array<PatchNode, 3> across = {PatchNode::Free, PatchNode::Free, PatchNode::Free};
-    for (int k = 0; k < 3; ++k) {
-      b.v[k] = F(f, k);
-      rest[k] = X.row(F(f, k)).transpose();
-    }
-    for (int i = 0; i < 3; ++i) {
-      const int a = F(f, (i + 1) % 3), c = F(f, (i + 2) % 3);
-      const int e = mesh.face_edges()(f, (i + 1) % 3);
-      const int g = mesh.edge_faces()(e, 0) == f ? mesh.edge_faces()(e, 1) : mesh.edge_faces()(e, 0);
-      if (edge_clamped(a, c)) {
-        across[i] = PatchNode::Ghost;
-      } else if (g >= 0) {
-        int opposite = -1;
-        for (int k = 0; k < 3; ++k)
-          if (F(g, k) != a && F(g, k) != c) opposite = F(g, k);
-        across[i] = PatchNode::Vertex;
-        b.v[3 + i] = opposite;
-        rest[3 + i] = X.row(opposite).transpose();
+    for (int f = faces.begin(); f < faces.end(); ++f) {
+      ShellBend& b = m_bends[f];
+      b.face = f;
+      std::array<Vec3, 6> rest;
+      std::array<PatchNode, 3> across = {PatchNode::Free, PatchNode::Free, PatchNode::Free};
+      for (int k = 0; k < 3; ++k) {
+        b.v[k] = F(f, k);
+        rest[k] = X.row(F(f, k)).transpose();
       }
+      for (int i = 0; i < 3; ++i) {
+        const int a = F(f, (i + 1) % 3), c = F(f, (i + 2) % 3);
+        const int e = mesh.face_edges()(f, (i + 1) % 3);
+        const int g = mesh.edge_faces()(e, 0) == f ? mesh.edge_faces()(e, 1) : mesh.edge_faces()(e, 0);
+        if (edge_clamped(a, c)) {
+          across[i] = PatchNode::Ghost;
+        } else if (g >= 0) {
+          int opposite = -1;
+          for (int k = 0; k < 3; ++k)
+            if (F(g, k) != a && F(g, k) != c) opposite = F(g, k);
+          across[i] = PatchNode::Vertex;
+          b.v[3 + i] = opposite;
+          rest[3 + i] = X.row(opposite).transpose();
+        }
+      }
+      b.rest = shape_operator_rest(rest, across, m_material.poisson_ratio);
     }
-    b.rest = shape_operator_rest(rest, across, m_material.poisson_ratio);
-  }
   });
 }
 
