@@ -95,8 +95,9 @@ void add_sweep_command(CLI::App& app) {
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   cmd->add_option("--memory", opts->memory,
-                  "peak memory budget of the concurrent variants, e.g. 8G (each reserves its estimated peak "
-                  "before its design starts; default: no budget)");
+                  "peak memory budget of the process, e.g. 8G: the process and one stiffness calibration are set "
+                  "aside, and each variant reserves its estimated peak from the rest before its design starts "
+                  "(docs/SWEEP.md \"Memory\"; default: no budget)");
   cmd->add_option("--iterations", opts->iterations,
                   "L-BFGS-B iterations per phase for every variant (0: the sweep file's design.iterations, else "
                   "the scene's)")
@@ -105,7 +106,8 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--device", opts->device, "where the clip and fill kernels run: cpu, vulkan or auto")
       ->check(CLI::IsMember({"cpu", "vulkan", "auto"}, CLI::ignore_case))
       ->capture_default_str();
-  cmd->add_flag("--list", opts->list, "print the variants (id and axis values) and stop; nothing is written");
+  cmd->add_flag("--list", opts->list, "print the variants (id and axis values) and stop; nothing is written (with --memory also what "
+                "each would reserve and what is set aside)");
   cmd->add_flag("--no-discretisation-estimate", opts->no_discretisation_estimate,
                 "skip each design's solves at half and a quarter of the simulation edge length that say how far "
                 "from converged its numbers are (report.json `discretisation`): faster sweeps");
