@@ -441,15 +441,14 @@ void EquilibriumSolver::step_load(const Eigen::VectorXd& alpha, const Eigen::Vec
       newton(alpha, target * load, fraction == 0, step_iterations);
       if (trial_displacement() > limit) {
         ok = false;
-        why = fmt::format("beyond it the displacement exceeds {:.0f}% of the model size",
+        why = fmt::format("the displacement exceeds {:.0f}% of the model size",
                           100 * m_settings.max_displacement_ratio);
       }
     } catch (const UnsupportedModel&) {
       throw;
     } catch (const SolveError&) {
       ok = false;
-      why = "beyond it Newton's method finds no equilibrium (a limit point: the shell buckles, snaps "
-            "through or collapses)";
+      why = "Newton's method finds no equilibrium (a limit point: the shell buckles, snaps through or collapses)";
     }
     iterations += m_stats.newton_iterations;
     if (ok) {
@@ -465,10 +464,15 @@ void EquilibriumSolver::step_load(const Eigen::VectorXd& alpha, const Eigen::Vec
       m_stats.newton_iterations = iterations;
       m_trial = carried;
       const double u = trial_displacement();
+      if (fraction == 0)  // not even the smallest step: no displacement at "that fraction" to tell of
+        throw SolveError(fmt::format(
+            "the structure cannot carry even {:.2g} of the load: at that fraction {}; reduce the loads, add "
+            "supports or stiffen the design",
+            m_settings.min_load_step, why));
       throw SolveError(fmt::format(
           "the structure can carry only {:.1f}% of the load: at that fraction the largest displacement is "
-          "{:.3g} m ({:.1f}% of the model size {:.3g} m) and {} (load steps down to {:.2g} of the load "
-          "tried); reduce the loads, add supports or stiffen the design",
+          "{:.3g} m ({:.1f}% of the model size {:.3g} m) and beyond it {} (load steps down to {:.2g} of the "
+          "load tried); reduce the loads, add supports or stiffen the design",
           100 * fraction, u, 100 * u / size, size, why, m_settings.min_load_step));
     }
   }

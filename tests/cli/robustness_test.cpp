@@ -213,8 +213,9 @@ TEST(CliRobustness, HostileFilesAreOneBoundedLine) {
 
 // A shell a millionth as thick as its triangles has a rest stiffness that is singular in double
 // precision: its bending stiffness, (h/ℓ)² of its membrane's, is lost. That is said as what it is
-// (a thickness, perhaps in the wrong unit), not as missing supports; one thousandth as thin again
-// factorises and is simply too weak for the load.
+// (a thickness, perhaps in the wrong unit), not as missing supports; a hundred times thicker it
+// factorises and is simply too weak for the load: not even its smallest load step is carried, which
+// is said without the "0.0% ... 0 m" the message used to print.
 TEST(CliRobustness, AShellTooThinForItsMeshIsSaidToBe) {
   const fs::path dir = test::temp_dir("robust_thin");
   nlohmann::json doc = nlohmann::json::parse(cutwork("show plate").out);
@@ -227,7 +228,7 @@ TEST(CliRobustness, AShellTooThinForItsMeshIsSaidToBe) {
   doc["material"]["thickness"] = 1e-8;
   std::ofstream(dir / "thin.json") << doc.dump();
   const auto weak = cutwork(run + (dir / "b").string());
-  expect_one_line_error(weak, {"the structure can carry only"});
+  expect_one_line_error(weak, {"the structure cannot carry even 0.002 of the load: at that fraction"});
   EXPECT_EQ(weak.err.find("too thin"), std::string::npos) << weak.err;
   fs::remove_all(dir);
 }
