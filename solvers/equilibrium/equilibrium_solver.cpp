@@ -466,8 +466,8 @@ void EquilibriumSolver::step_load(const Eigen::VectorXd& alpha, const Eigen::Vec
       const double u = trial_displacement();
       if (fraction == 0)  // not even the smallest step: no displacement at "that fraction" to tell of
         throw SolveError(fmt::format(
-            "the structure cannot carry even {:.2g} of the load: at that fraction {}; reduce the loads, add "
-            "supports or stiffen the design",
+            "the structure can carry none of the load (not even {:.2g} of it: at that fraction {}); reduce the "
+            "loads, add supports or stiffen the design",
             m_settings.min_load_step, why));
       throw SolveError(fmt::format(
           "the structure can carry only {:.1f}% of the load: at that fraction the largest displacement is "
