@@ -13,9 +13,9 @@
 
 #include <fmt/format.h>
 
-#include "solvers/report/design_memory.h"
 #include "host/scene/scene.h"
 #include "solvers/conforming/discretisation_estimate.h"
+#include "solvers/report/design_memory.h"
 #include "tests/support/test_support.h"
 
 extern char** environ;
