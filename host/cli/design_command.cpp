@@ -268,7 +268,7 @@ void run_design_command(const DesignCommandOptions& opts) {
   // Everything is computed before anything is written; then staged and published as one set: a
   // failed run leaves the folder as it was.
   progress.stage("cut");
-  solvers::DesignRunInfo info{timings, device.report, notes, !opts.no_discretisation_estimate};
+  solvers::DesignRunInfo info{timings, device.report, notes, !opts.no_discretisation_estimate, {}};
   solvers::DesignOutputs design = solvers::finish_design(scene, meshes, ctx, r, std::move(info), total);
   solvers::add_design_files(design, scene, load_case, design_file_options(opts.outputs, &progress, device.rasterizer));
   progress.finish();

@@ -24,8 +24,11 @@ void print_variants(const SweepPlan& plan, const SweepOptions& opts) {
     std::cout << v.id << "  " << describe_values(plan.spec, v.values);
     if (memory) {
       const SceneMeshes meshes = build_scene_meshes(plan.scenes[i]);
-      std::cout << fmt::format("  (reserves {:.0f} MB: {} base, {} simulated triangles)",
-                               double(solvers::estimate_design_memory(meshes, plan.discretisation_estimate)) / 1e6,
+      const solvers::DesignMemory m = solvers::estimate_design_memory(meshes, plan.discretisation_estimate);
+      std::cout << fmt::format("  (reserves {:.0f} MB{}: {} base, {} simulated triangles)", double(m.held) / 1e6,
+                               m.on_demand > 0 ? fmt::format(" and {:.0f} MB more if its discretisation estimate "
+                                                             "solves h/8", double(m.on_demand) / 1e6)
+                                               : std::string(),
                                meshes.base.num_faces(), meshes.sim.num_faces());
     }
     std::cout << "\n";

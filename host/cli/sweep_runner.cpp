@@ -20,6 +20,7 @@
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
 #include "host/core/json_io.h"
+#include "host/sweep/memory_budget.h"
 #include "host/sweep/pareto_plot.h"
 #include "host/pattern/pattern_context.h"
 #include "solvers/report/design_memory.h"
@@ -153,7 +154,7 @@ std::string one_line(std::string s) {
 }  // namespace
 
 VariantResult run_variant(const SweepPlan& plan, size_t i, const std::string& device,
-                          const std::function<void(size_t bytes)>& reserve) {
+                          const VariantMemoryHooks& memory) {
   const SweepVariant& v = plan.variants[i];
   VariantResult r;
   r.id = v.id;
@@ -165,6 +166,7 @@ VariantResult run_variant(const SweepPlan& plan, size_t i, const std::string& de
     write_json_atomic(dir / "scene.json", v.scene);
     solvers::DesignRunInfo info;
     info.discretisation_estimate = plan.discretisation_estimate;
+    if (memory.top_up) info.before_extra_level = [&](int, size_t) { memory.top_up(); };
     solvers::DesignOptions o;
     o.structure = plan.spec.phases == "pattern,structure";
     if (plan.iterations > 0) o.pattern_iterations = o.structure_iterations = plan.iterations;
@@ -174,7 +176,7 @@ VariantResult run_variant(const SweepPlan& plan, size_t i, const std::string& de
     o.fill = d.fill;
     info.timings.add("device", sw.seconds());
     const json report = solvers::design_into_folder(plan.scenes[i], dir, o, std::move(info), [&](const SceneMeshes& m) {
-      if (reserve) reserve(solvers::estimate_design_memory(m, plan.discretisation_estimate));
+      if (memory.reserve) memory.reserve(solvers::estimate_design_memory(m, plan.discretisation_estimate));
     });
     r.take_report(report);
     r.ok = true;
@@ -228,38 +230,6 @@ void SweepProgress::finish() {
   m_active = false;
 }
 
-namespace {
-
-/// Bytes of a budget shared by concurrent variants: reserve blocks until enough is free. A
-/// variant larger than what is left of the budget once `held` (what the process holds whatever
-/// the variants) is set aside waits until it runs alone. `total` 0: no budget.
-class MemoryBudget {
- public:
-  MemoryBudget(size_t total, size_t held) : m_total(total == 0 ? 0 : std::max<size_t>(1, total - std::min(total, held))) {}
-  size_t reserve(size_t bytes) {
-    if (m_total == 0) return 0;
-    bytes = std::min(bytes, m_total);
-    std::unique_lock lock(m_mutex);
-    m_cv.wait(lock, [&] { return m_used + bytes <= m_total; });
-    m_used += bytes;
-    return bytes;
-  }
-  void release(size_t bytes) {
-    if (bytes == 0) return;
-    {
-      std::lock_guard lock(m_mutex);
-      m_used -= bytes;
-    }
-    m_cv.notify_all();
-  }
-
- private:
-  size_t m_total, m_used = 0;
-  std::mutex m_mutex;
-  std::condition_variable m_cv;
-};
-
-}  // namespace
 
 void single_threaded_blas() {
   // CHOLMOD's supernodal factorisation calls BLAS; OpenBLAS keeps its own thread pool, which
@@ -304,12 +274,15 @@ size_t run_sweep_local(const SweepPlan& plan, const SweepOptions& options) {
       jobs.run([&] {
         tbb::task_arena inner(per_job, 1);
         for (size_t k = next++; k < todo.size(); k = next++) {
-          size_t held = 0;
+          std::optional<MemoryBudget::Claim> claim;
+          VariantMemoryHooks hooks;
+          hooks.reserve = [&](const solvers::DesignMemory& m) { claim = budget.reserve(m.held, m.on_demand); };
+          hooks.top_up = [&] {
+            if (claim) budget.top_up(*claim);
+          };
           progress.started();
-          const VariantResult r = inner.execute([&] {
-            return run_variant(plan, todo[k], options.device, [&](size_t bytes) { held = budget.reserve(bytes); });
-          });
-          budget.release(held);
+          const VariantResult r = inner.execute([&] { return run_variant(plan, todo[k], options.device, hooks); });
+          if (claim) budget.release(*claim);
           {
             std::lock_guard lock(record_mutex);
             plan.record(r);

@@ -13,8 +13,9 @@
 ///
 /// Concurrency on one machine (run_sweep_local): J variants at a time, each in its own TBB arena
 /// of max(1, T / J) threads, T = --threads (0: all hardware threads), J = --jobs (0: as many as
-/// there are variants to run, at most T), within --memory (each variant reserves its estimated
-/// peak before its design starts and waits until that much of the budget is free).
+/// there are variants to run, at most T), within --memory (each variant claims its estimated
+/// peak before its design starts, part of it on demand, and waits until the budget admits it:
+/// host/sweep/memory_budget.h).
 /// BLAS runs single-threaded in every variant (single_threaded_blas), so the summary is the same
 /// bit for bit whatever the jobs, threads or ranks.
 /// Across machines (run_sweep_mpi, built with CUTWORK_WITH_MPI): see sweep_mpi.h.
@@ -29,6 +30,7 @@
 #include "host/scene/scene.h"
 #include "host/sweep/sweep_results.h"
 #include "host/sweep/sweep_spec.h"
+#include "solvers/report/design_memory.h"
 
 namespace cutwork::cli {
 
@@ -86,11 +88,18 @@ struct SweepPlan {
 /// variant and the scene's JSON path for the first variant that is not a valid scene.
 SweepPlan plan_sweep(const SweepOptions& options);
 
+/// What a variant asks of a memory budget (host/sweep/memory_budget.h), both optional.
+struct VariantMemoryHooks {
+  /// Once the design's meshes exist: what it holds throughout and may ask for more.
+  std::function<void(const solvers::DesignMemory&)> reserve;
+  /// Before the discretisation estimate builds its extra level (h/8), which asks for the more.
+  std::function<void()> top_up;
+};
+
 /// Runs one variant into its folder: writes scene.json, designs it (solvers::design_into_folder).
 /// Never throws for the variant's own failure: the result says failed, with a one-line reason.
-/// `reserve` (optional) is called with the design's estimated memory once its meshes exist.
 VariantResult run_variant(const SweepPlan& plan, size_t i, const std::string& device,
-                          const std::function<void(size_t bytes)>& reserve = {});
+                          const VariantMemoryHooks& memory = {});
 
 /// The live display on a terminal: variants done / total, failed, running, elapsed and ETA
 /// (silent when quiet or stdout is not a terminal). Thread-safe.

@@ -50,6 +50,7 @@ const RefinedSimulationMesh* SimulationMeshRefinements::level(int k) {
       m_exhausted = true;
       break;
     }
+    if (j >= m_options.refinements && m_options.before_extra_level) m_options.before_extra_level(j, size_t(faces));
     RefinedSimulationMesh r;
     if (m_scene->mesh.generator.empty()) {
       r.mesh = midpoint_subdivision(m_levels.empty() ? m_meshes->sim : m_levels.back().mesh);

@@ -71,6 +71,10 @@ struct DiscretisationOptions {
   double tolerance = kDiscretisationTolerance;
   double support_tolerance = kSupportExtentTolerance;  ///< largest relative change of the supports' extent
   NewtonSettings newton;
+  /// Called with the refinement's index (2: h/8) and its predicted triangles before an extra level
+  /// (past `refinements`) is built, once per level (SimulationMeshRefinements::level): a sweep takes
+  /// the level's memory from its budget there (host/sweep/memory_budget.h). Optional.
+  std::function<void(int level, size_t faces)> before_extra_level;
 };
 
 /// The simulation mesh at a refined edge length, and how it was made ("regenerated" or

@@ -6,11 +6,11 @@
 
 namespace cutwork::solvers {
 
-size_t largest_refined_level(size_t sim_faces) {
+size_t largest_refined_level(size_t sim_faces, bool extra) {
   const DiscretisationOptions o;
   size_t largest = 4 * sim_faces;  // h/2 is always made
   size_t faces = sim_faces;
-  for (int k = 0; k < o.refinements + o.extra_refinements; ++k) {
+  for (int k = 0; k < o.refinements + (extra ? o.extra_refinements : 0); ++k) {
     faces *= 4;
     if (faces > size_t(o.max_faces)) break;
     largest = faces;
@@ -18,7 +18,7 @@ size_t largest_refined_level(size_t sim_faces) {
   return largest;
 }
 
-size_t estimate_design_memory(const SceneMeshes& meshes, bool discretisation_estimate) {
+DesignMemory estimate_design_memory(const SceneMeshes& meshes, bool discretisation_estimate) {
   // Peak resident memory of single designs on one thread (/usr/bin/time), the process's own 28 MB
   // aside (kProcessMemory) and with the linear rule (no calibration: calibration_memory). The bowl
   // at its edge lengths and at 1/2 and 1/4 of them (2646/1350, 11094/5400, 44376/22326 base/
@@ -28,12 +28,21 @@ size_t estimate_design_memory(const SceneMeshes& meshes, bool discretisation_est
   // the factor's fill) and about 55 MB besides, held here with a margin of 1.5 (more stencils mean
   // more clip pairs). With the estimate they peaked at 233, 776 and 882 MB, the pavilion (h/8
   // solved) at 398 MB: a level's mesh, model and factor, 6.9–8 kB per triangle at 21.6k–89k, held
-  // at 9 kB for the largest level that may be solved. That counts h/8, which a design solves only
-  // where the first three levels have not settled (the pavilion's does; the bowl's, the table's
-  // and the chair's do not, and reserve 3–7× what they use).
+  // at 9 kB per triangle of the largest level solved. The levels are solved one after another,
+  // each freed before the next is built (their meshes, a few per cent of it, are kept), so h/8,
+  // which a design solves only where the first three levels have not settled (the pavilion's;
+  // not the bowl's, the table's or the chair's, which would hold 3–7× their peak for it), is on
+  // demand: its memory less the always-solved level's.
   const double design = 55e6 + 2e3 * double(meshes.base.num_faces()) + 12e3 * double(meshes.sim.num_faces());
-  const double level = discretisation_estimate ? 9e3 * double(largest_refined_level(meshes.sim.num_faces())) : 0.0;
-  return size_t(1.5 * design + level);
+  DesignMemory m;
+  m.held = size_t(1.5 * design);
+  if (discretisation_estimate) {
+    const size_t n = size_t(meshes.sim.num_faces());
+    const size_t always = largest_refined_level(n, false), extra = largest_refined_level(n, true);
+    m.held += size_t(9e3 * double(always));
+    m.on_demand = size_t(9e3 * double(extra - always));
+  }
+  return m;
 }
 
 size_t calibration_memory(std::span<const Scene> scenes, int threads) {

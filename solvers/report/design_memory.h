@@ -10,17 +10,30 @@
 
 namespace cutwork::solvers {
 
-/// Estimated peak memory (bytes) of one design on these meshes beyond what the process holds
-/// anyway (kProcessMemory) and beyond a calibration of its stencils' stiffness (calibration_memory,
-/// set aside once per process): the design on its meshes and, with `discretisation_estimate`, its
-/// largest refined level (DiscretisationOptions: h/2, h/4 and h/8, each kept only while it has at
-/// most max_faces triangles, h/2 always). Measured on the bowl at three sizes and the built-in
-/// scenes (docs/SWEEP.md "Memory"), with a margin.
-size_t estimate_design_memory(const SceneMeshes& meshes, bool discretisation_estimate = true);
+/// Estimated peak memory (bytes) of one design beyond what the process holds anyway
+/// (kProcessMemory) and beyond a calibration of its stencils' stiffness (calibration_memory, set
+/// aside once per process).
+struct DesignMemory {
+  /// The design on its meshes and, with the discretisation estimate, the largest of the levels it
+  /// always solves (h/2, h/4): held from the start.
+  size_t held = 0;
+  /// More, only where the estimate solves its extra level (h/8; DiscretisationOptions::
+  /// extra_refinements), which it does where the levels before it have not settled: the extra
+  /// level's memory less the largest always-solved level's, which is freed before it is built.
+  size_t on_demand = 0;
+  size_t most() const { return held + on_demand; }
+};
+
+/// DesignMemory of one design on these meshes (`discretisation_estimate`: with the estimate's
+/// levels, DiscretisationOptions: h/2, h/4 and h/8, each kept only while it has at most max_faces
+/// triangles, h/2 always). Measured on the bowl at three sizes and the built-in scenes
+/// (docs/SWEEP.md "Memory"), with a margin.
+DesignMemory estimate_design_memory(const SceneMeshes& meshes, bool discretisation_estimate = true);
 
 /// The triangles of the largest level the discretisation estimate may solve for a simulation mesh
-/// of `sim_faces` triangles (the refinements multiply them by 4 each).
-size_t largest_refined_level(size_t sim_faces);
+/// of `sim_faces` triangles (the refinements multiply them by 4 each); `extra` false: of the levels
+/// it always solves.
+size_t largest_refined_level(size_t sim_faces, bool extra = true);
 
 /// Resident memory of a design process before any design (the executable, its libraries, TBB).
 inline constexpr size_t kProcessMemory = size_t(40e6);

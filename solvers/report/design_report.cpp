@@ -191,7 +191,9 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     sw.restart();
     const MechanicsSettings mechanics =
         resolve_fill_stiffness(scene.mechanics, ctx.shapes(), scene.material, final_params);
-    SimulationMeshRefinements refined(scene, meshes);
+    DiscretisationOptions levels;
+    levels.before_extra_level = info.before_extra_level;
+    SimulationMeshRefinements refined(scene, meshes, levels);
     const double h = simulation_edge_length(scene, meshes);
     const DiscretisationEstimate uncut = estimate_discretisation(
         scene, refined, coarse_fill_ratios_on(meshes.sim, result.uncut.alpha), mechanics, result.uncut.summary, h,

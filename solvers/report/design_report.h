@@ -35,6 +35,9 @@ struct DesignRunInfo {
   /// how far from converged the numbers are (report.json `discretisation`,
   /// solvers/conforming/discretisation_estimate.h); a note says when they are not.
   bool discretisation_estimate = true;
+  /// Called before the estimate builds a level past the ones it always solves (h/8, only where
+  /// those have not settled; DiscretisationOptions::before_extra_level). Optional.
+  std::function<void(int level, size_t faces)> before_extra_level;
 };
 
 /// A finished design, computed in full and ready to be written. It refers to the scene's meshes,

@@ -297,5 +297,33 @@ TEST(DiscretisationEstimate, MeshFilesAreSubdividedAndTheBudgetIsKept) {
   EXPECT_EQ(refine_simulation_mesh(scene, meshes, o).size(), 2u);
 }
 
+// The levels past those always solved are announced before they are built, once each, with their
+// triangles (a sweep takes their memory from its budget there: host/sweep/memory_budget.h); a level
+// the face budget leaves out is not.
+TEST(DiscretisationEstimate, ExtraLevelsAreAnnouncedBeforeTheyAreBuilt) {
+  Scene scene = load_scene("sheet");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  scene.mesh.generator.clear();  // subdivided: cheap, and each level exactly 4× the last
+  const size_t n = size_t(meshes.sim.num_faces());
+  std::vector<std::pair<int, size_t>> announced;
+  DiscretisationOptions o;
+  o.refinements = 1;
+  o.extra_refinements = 2;
+  o.max_faces = int(16 * n);  // h/4 fits, h/8 does not
+  o.before_extra_level = [&](int level, size_t faces) { announced.emplace_back(level, faces); };
+  SimulationMeshRefinements refined(scene, meshes, o);
+  ASSERT_NE(refined.level(0), nullptr);
+  EXPECT_TRUE(announced.empty()) << "h/2 is always solved";
+  const RefinedSimulationMesh* quarter = refined.level(1);
+  ASSERT_NE(quarter, nullptr);
+  ASSERT_EQ(announced.size(), 1u);
+  EXPECT_EQ(announced[0].first, 1);
+  EXPECT_EQ(announced[0].second, size_t(quarter->mesh.num_faces()));
+  ASSERT_NE(refined.level(1), nullptr);
+  EXPECT_EQ(announced.size(), 1u) << "built once, announced once";
+  EXPECT_EQ(refined.level(2), nullptr);
+  EXPECT_EQ(announced.size(), 1u) << "over the face budget: not built, not announced";
+}
+
 }  // namespace
 }  // namespace cutwork::solvers
