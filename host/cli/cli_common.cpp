@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "host/core/work_limits.h"
+#include "solvers/conforming/simulation_mesh_choice.h"
 
 namespace cutwork::cli {
 
@@ -20,7 +21,8 @@ void add_run_options(CLI::App& cmd, RunOptions& opts, const std::string& default
   opts.scene = default_scene;
   cmd.add_option("SCENE", opts.scene,
                  "scene file (.json), built-in scene name (see `cutwork scenes`) or mesh file "
-                 "(.obj .ply .off .stl)")
+                 "(.obj .ply .off .stl; simulated on as many midpoint subdivisions of it as the uncut shell needs to "
+                 "be within 2% of converged, mesh.sim_subdivisions in a scene)")
       ->capture_default_str();
   cmd.add_option("--out,-o", opts.out, "output directory (created if needed)")->capture_default_str();
   cmd.add_option("--threads", opts.threads, "number of CPU threads for everything the run does: TBB, and the BLAS and OpenMP threads of the factorisations (0: all)")
@@ -88,7 +90,13 @@ LoadedScene::LoadedScene(const RunOptions& opts, Timings& timings)
                     if (!notice.empty()) notes.push_back(notice);
                     return s;
                   })),
-      meshes(timed(timings, "meshes", [&] { return build_scene_meshes(scene); })),
+      meshes(timed(timings, "meshes",
+                   [&] {
+                     SceneMeshes m = build_scene_meshes(scene);
+                     const std::string note = solvers::choose_simulation_mesh(scene, m);
+                     if (!note.empty()) notes.push_back(note);
+                     return m;
+                   })),
       load_case(timed(timings, "load_case", [&] { return resolve_load_case(scene, meshes.sim); })) {}
 
 std::unique_ptr<tbb::global_control> limit_threads(int threads) {

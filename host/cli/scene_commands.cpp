@@ -15,6 +15,7 @@
 #include "host/scene/work_estimate.h"
 #include "host/mesh/surface_mesh.h"
 #include "host/scene/scene.h"
+#include "solvers/conforming/simulation_mesh_choice.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/structural_quantities.h"
@@ -62,7 +63,7 @@ const char* load_word(LoadKind k) {
   return "";
 }
 
-void print_mesh(const char* label, const SurfaceMesh& m) {
+void print_mesh(const std::string& label, const SurfaceMesh& m) {
   const Vec3 lo = m.bbox_min(), hi = m.bbox_max();
   std::cout << fmt::format(
       "{}: {} vertices, {} faces, {} edges, {} boundary loop(s), Euler characteristic {}, {} component(s)\n"
@@ -89,7 +90,10 @@ void add_check_command(CLI::App& app) {
   cmd->callback([what, stencils, no_equilibrium] {
     std::string notice;
     const Scene scene = load_scene(*what, &notice);
-    const SceneMeshes meshes = build_scene_meshes(scene);
+    SceneMeshes meshes = build_scene_meshes(scene);
+    // A file's simulation mesh "auto" is chosen by solving the uncut shell: with the equilibrium.
+    const bool choice_pending = meshes.sim_choice_pending && *no_equilibrium;
+    const std::string choice = *no_equilibrium ? std::string() : solvers::choose_simulation_mesh(scene, meshes);
     const LoadCase lc = resolve_load_case(scene, meshes.sim);
     // Everything design and simulate check before they start is checked here, before anything is
     // printed: supports that hold every part and loads that are finite and not zero (the shell
@@ -121,10 +125,14 @@ void add_check_command(CLI::App& app) {
     std::cout << "scene " << excerpt(scene.name) << (scene.description.empty() ? "" : ": " + excerpt(scene.description, 200))
               << "\n";
     print_mesh("base mesh", meshes.base);
-    if (meshes.sim_is_base)
+    if (!choice.empty()) std::cout << "note: " << choice << "\n";
+    if (choice_pending)
+      std::cout << "simulation mesh: the file's mesh or a subdivision of it, chosen by the uncut shell's "
+                   "equilibrium when a run starts (mesh.sim_subdivisions auto)\n";
+    else if (meshes.sim_is_base)
       std::cout << "simulation mesh: the base mesh\n";
     else
-      print_mesh("simulation mesh", meshes.sim);
+      print_mesh(fmt::format("simulation mesh (the base mesh divided {} times)", meshes.sim_subdivisions), meshes.sim);
     int fixed = 0, clamped = 0;
     for (size_t v = 0; v < lc.fixed.size(); ++v) {
       fixed += lc.fixed[v];

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "host/core/error.h"
 #include "host/core/internal_error.h"
 #include "host/core/work_limits.h"
@@ -169,6 +171,11 @@ MeshSpec parse_mesh_section(JsonObjectReader& root, const fs::path& base_dir) {
     if (!is_mesh_file(mesh.file))
       m.fail("file", "'" + f + "' is not a mesh file (accepted: .obj .ply .off .stl)");
     mesh.sim_edge_length = 0;
+    const nlohmann::json* sub = m.child("sim_subdivisions");
+    if (sub && sub->is_string())
+      (void)m.string("sim_subdivisions", "auto", {"auto"});
+    else
+      mesh.sim_subdivisions = m.integer("sim_subdivisions", kAutoSubdivisions, 0, kMaxSimSubdivisions);
   }
   m.finish();
   return mesh;
@@ -464,6 +471,10 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                  {"sim_edge_length", s.mesh.sim_edge_length}};
   } else {
     j["mesh"] = {{"file", s.mesh.file.string()}};
+    if (s.mesh.sim_subdivisions == kAutoSubdivisions)
+      j["mesh"]["sim_subdivisions"] = "auto";
+    else
+      j["mesh"]["sim_subdivisions"] = s.mesh.sim_subdivisions;
   }
   j["material"] = {{"youngs_modulus", s.material.youngs_modulus},
                    {"poisson_ratio", s.material.poisson_ratio},
@@ -539,6 +550,53 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
   return j;
 }
 
+PlainMeshSupport plain_mesh_support(const SurfaceMesh& mesh) {
+  const double zmin = mesh.bbox_min()[2];
+  const double extent = (mesh.bbox_max() - mesh.bbox_min()).norm();
+  PlainMeshSupport out;
+  // A mesh flat in z (every vertex would be "lowest") rests on a frame: its boundary.
+  if (mesh.bbox_max()[2] - zmin <= 0.01 * extent && !mesh.boundary_loops().empty()) {
+    out.select = {{"entity", "boundary_vertices"}};
+    out.description = "a flat mesh, its boundary vertices";
+    out.exact = true;
+    return out;
+  }
+  // The part of the surface at its lowest level: a rim, flat feet or a flat bottom. The mesh's
+  // facets meet that plane in the same points, lines and faces however finely they are divided,
+  // so every refinement (the discretisation estimate's, verify's conforming meshes) holds the same
+  // region. It holds the shell if it is not a point or a line.
+  const double tolerance = 1e-6 * extent;
+  std::vector<Vec3> lowest;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (mesh.vertices()(v, 2) <= zmin + tolerance) lowest.push_back(mesh.vertices().row(v).transpose());
+  double span = 0, width = 0;  // the largest distance from the first, then from the line through both
+  Vec3 far = lowest.front();
+  for (const Vec3& p : lowest)
+    if ((p - lowest.front()).norm() > span) {
+      span = (p - lowest.front()).norm();
+      far = p;
+    }
+  if (span > 0) {
+    const Vec3 axis = (far - lowest.front()) / span;
+    for (const Vec3& p : lowest) width = std::max(width, (p - lowest.front()).cross(axis).norm());
+  }
+  if (width > 1e-3 * extent) {
+    out.select = {{"entity", "vertices"}, {"z", {{"below", zmin + tolerance}}}};
+    out.description = fmt::format("the {} vertices on its lowest plane (z below {})", lowest.size(),
+                                  format_number(zmin + tolerance));
+    out.exact = true;
+    return out;
+  }
+  // It touches its lowest plane in a point or along a line (a rounded bottom): a band of 1% of the
+  // model's size. That band catches more of a finer mesh (a surface rising tangentially out of it),
+  // so the discretisation estimate says its levels hold different regions.
+  out.select = {{"entity", "vertices"}, {"z", {{"below", zmin + 0.01 * extent}}}};
+  out.description = fmt::format("vertices with z below {} (it touches its lowest plane only in a {}: the band of 1% of "
+                                "its size holds more of a finer mesh; select the supports in a scene)",
+                                format_number(zmin + 0.01 * extent), span > 0 ? "line" : "point");
+  return out;
+}
+
 Scene load_scene(const std::string& what, std::string* notice) {
   fs::path path(what);
   std::error_code ec;
@@ -557,29 +615,19 @@ Scene load_scene(const std::string& what, std::string* notice) {
     throw InputError(what + ": no such file, and not a built-in scene (built-in: " + names + ")");
   }
   if (is_mesh_file(path)) {
-    // A plain mesh: self-weight, lowest vertices pinned, the default pattern. A mesh that is
-    // flat in z (every vertex would be "lowest") is pinned along its boundary instead, like a
-    // sheet resting on a frame.
     SurfaceMesh mesh = read_mesh(path);
-    const double zmin = mesh.bbox_min()[2];
-    const double extent = (mesh.bbox_max() - mesh.bbox_min()).norm();
-    const bool flat = mesh.bbox_max()[2] - zmin <= 0.01 * extent;
-    const bool boundary = flat && !mesh.boundary_loops().empty();
-    json select = boundary ? json{{"entity", "boundary_vertices"}}
-                           : json{{"entity", "vertices"}, {"z", {{"below", zmin + 0.01 * extent}}}};
+    const PlainMeshSupport support = plain_mesh_support(mesh);
     json doc = {{"name", path.stem().string()},
                 {"description", "mesh file with default supports and loads"},
                 {"mesh", {{"file", fs::absolute(path).string()}}},
-                {"supports", json::array({{{"type", "pinned"}, {"select", select}}})},
+                {"supports", json::array({{{"type", "pinned"}, {"select", support.select}}})},
                 {"loads", json::array({{{"type", "self_weight"}}})},
                 {"stencils", json::array({{{"name", "circle"}, {"kind", "circle"}}})}};
     Scene s = parse_scene(doc, path.string());
     s.from_plain_mesh = true;
     s.source = path;
     if (notice)
-      *notice = path.string() + ": a plain mesh; using defaults: self-weight, " +
-                (boundary ? std::string("a flat mesh, its boundary vertices")
-                          : "vertices with z below " + format_number(zmin + 0.01 * extent)) +
+      *notice = path.string() + ": a plain mesh; using defaults: self-weight, " + support.description +
                 " pinned, circle stencils";
     return s;
   }
@@ -619,9 +667,31 @@ SceneMeshes build_scene_meshes(const Scene& scene) {
     out.base = read_mesh(scene.mesh.file);
     out.sim = out.base;
     out.sim_is_base = true;
+    out.sim_choice_pending = scene.mesh.sim_subdivisions == kAutoSubdivisions;
+    if (scene.mesh.sim_subdivisions > 0) {
+      try {
+        use_subdivided_simulation_mesh(out, scene.mesh.sim_subdivisions);
+      } catch (const InputError& e) {
+        throw InputError(scene_origin(scene) + ": /mesh/sim_subdivisions: " + e.what());
+      }
+      return out;
+    }
   }
   out.map = map_meshes(out.base, out.sim);
   return out;
+}
+
+void use_subdivided_simulation_mesh(SceneMeshes& meshes, int subdivisions) {
+  const double faces = double(meshes.base.num_faces()) * std::pow(4.0, subdivisions);
+  if (faces > double(work_limits().max_faces))
+    throw InputError(fmt::format("{} subdivisions of {} triangles make {:.0f}, over the limit of {} (--max-faces)",
+                                 subdivisions, meshes.base.num_faces(), faces, work_limits().max_faces));
+  SurfaceMesh sim = meshes.base;
+  for (int k = 0; k < subdivisions; ++k) sim = midpoint_subdivision(sim);
+  meshes.sim = std::move(sim);
+  meshes.sim_is_base = subdivisions == 0;
+  meshes.sim_subdivisions = subdivisions;
+  meshes.map = map_meshes(meshes.base, meshes.sim);
 }
 
 namespace {

@@ -23,7 +23,15 @@ struct MeshSpec {
   std::filesystem::path file;            ///< mesh file (resolved relative to the scene file)
   double edge_length = 0;                ///< base-mesh target edge length (m), generators only
   double sim_edge_length = 0;            ///< simulation-mesh edge length (m); 0: same as base
+  /// Files only: the simulation mesh is the file's mesh divided this many times at its edges'
+  /// midpoints (the same flat facets, finer), or kAutoSubdivisions: as many as the uncut shell
+  /// needs to be within the discretisation tolerance (solvers/conforming/simulation_mesh_choice.h).
+  int sim_subdivisions = -1;
 };
+
+/// MeshSpec::sim_subdivisions "auto", and the most a scene may ask for (256× the triangles).
+inline constexpr int kAutoSubdivisions = -1;
+inline constexpr int kMaxSimSubdivisions = 4;
 
 /// Which mesh entities a selector picks. An edge or face is selected when all its vertices
 /// satisfy every condition.
@@ -171,6 +179,17 @@ void set_tool_radius(Scene& scene, double tool_radius);
 /// parsing it again gives the same scene.
 nlohmann::ordered_json scene_to_json(const Scene& scene);
 
+/// The supports a plain mesh gets by default (load_scene): a flat mesh's boundary; else the part of
+/// the surface on its lowest plane (z within 1e-6 of the model's size of the lowest vertex) where
+/// that holds the shell (not a point or a line); else the vertices within 1% of the model's size of
+/// the lowest, a region that grows as the mesh is refined (`exact` false).
+struct PlainMeshSupport {
+  nlohmann::json select;    ///< the support's selector (docs/SCENES.md)
+  std::string description;  ///< for the note load_scene gives
+  bool exact = false;       ///< the same region on every refinement of the mesh
+};
+PlainMeshSupport plain_mesh_support(const SurfaceMesh& mesh);
+
 /// Loads `what`: a built-in scene name, a scene file (.json), or a mesh file (defaults: self
 /// weight, the lowest vertices supported; `notice` receives a line saying so).
 Scene load_scene(const std::string& what, std::string* notice = nullptr);
@@ -192,8 +211,21 @@ struct SceneMeshes {
   SurfaceMesh sim;
   MeshMapping map;
   bool sim_is_base = false;
+  /// A file's mesh: how many times `sim` divides it (MeshSpec::sim_subdivisions, resolved).
+  int sim_subdivisions = 0;
+  /// "auto" not yet resolved: `sim` is the file's mesh until solvers::choose_simulation_mesh
+  /// (solvers/conforming/simulation_mesh_choice.h) has solved the uncut shell on its subdivisions.
+  bool sim_choice_pending = false;
+  /// What that choice found (report.json mesh.sim_choice); null where nothing was chosen.
+  nlohmann::json sim_choice;
 };
+/// The scene's meshes. A file's mesh with sim_subdivisions "auto" comes back with sim the file's
+/// mesh and sim_choice_pending set (the choice needs the mechanics: solvers::choose_simulation_mesh).
 SceneMeshes build_scene_meshes(const Scene& scene);
+
+/// Makes `mesh` divided `subdivisions` times (midpoint) the simulation mesh of `meshes`, whose base
+/// it must be, with the map between them. Throws InputError when it would exceed the work limit.
+void use_subdivided_simulation_mesh(SceneMeshes& meshes, int subdivisions);
 
 /// Resolves supports and loads onto `mesh` (normally the simulation mesh).
 /// Supports fix the vertices their selector picks. Loads are integrated over their selector's

@@ -1,8 +1,9 @@
 #include "host/sweep/memory_budget.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <vector>
+
+#include "host/core/internal_error.h"
 
 namespace cutwork {
 
@@ -62,7 +63,7 @@ bool MemoryBudget::try_top_up(Claim claim) {
   if (m_total == 0) return true;
   std::lock_guard lock(m_mutex);
   const auto it = m_claims.find(claim);
-  if (it == m_claims.end()) throw std::logic_error("MemoryBudget::try_top_up: no such claim");
+  if (it == m_claims.end()) throw InternalError("MemoryBudget::try_top_up: no such claim");
   Entry& e = it->second;
   if (e.remaining > free_locked()) return false;
   m_used += e.remaining;
@@ -75,7 +76,7 @@ void MemoryBudget::top_up(Claim claim) {
   if (m_total == 0) return;
   std::unique_lock lock(m_mutex);
   const auto it = m_claims.find(claim);
-  if (it == m_claims.end()) throw std::logic_error("MemoryBudget::top_up: no such claim");
+  if (it == m_claims.end()) throw InternalError("MemoryBudget::top_up: no such claim");
   Entry& e = it->second;
   if (e.remaining == 0) return;
   ++m_waiting_top_ups;
@@ -93,7 +94,7 @@ void MemoryBudget::release(Claim claim) {
   {
     std::lock_guard lock(m_mutex);
     const auto it = m_claims.find(claim);
-    if (it == m_claims.end()) throw std::logic_error("MemoryBudget::release: no such claim");
+    if (it == m_claims.end()) throw InternalError("MemoryBudget::release: no such claim");
     m_used -= it->second.held;
     m_claims.erase(it);
   }

@@ -146,8 +146,9 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     // Past the levels always solved, one more only while the finest three have not settled and
     // the cautious estimate of unsettled levels cannot tell converged by itself.
     if (k >= options.refinements &&
-        (compliances.size() < 3 || richardson_extrapolate(compliances).asymptotic ||
-         unsettled_error(compliances) <= options.tolerance))
+        (options.solve_another ? !options.solve_another(compliances)
+                               : compliances.size() < 3 || richardson_extrapolate(compliances).asymptotic ||
+                                     unsettled_error(compliances) <= options.tolerance))
       break;
     const RefinedSimulationMesh* r = refined.level(k);
     if (r == nullptr) break;
@@ -233,9 +234,13 @@ std::string discretisation_line(const DiscretisationEstimate& e) {
       std::isfinite(e.compliance.order) ? fmt::format(", observed order {:.2f}", e.compliance.order) : std::string(),
       100 * e.estimated_error, 100 * e.tolerance,
       e.converged ? ", converged"
-                  : fmt::format(": NOT converged, the simulation mesh is too coarse for these numbers (a finer "
-                                "mesh.sim_edge_length, e.g. {:.3g} m, is closer)",
-                                e.levels.back().edge_length),
+      : e.method == "subdivided"
+          ? fmt::format(": NOT converged, the simulation mesh is too coarse for these numbers ({} more subdivisions "
+                        "of it, mesh.sim_subdivisions, or a finer file, are closer)",
+                        e.levels.size() - 1)
+          : fmt::format(": NOT converged, the simulation mesh is too coarse for these numbers (a finer "
+                        "mesh.sim_edge_length, e.g. {:.3g} m, is closer)",
+                        e.levels.back().edge_length),
       100 * e.W_max_change);
 }
 

@@ -75,6 +75,10 @@ struct DiscretisationOptions {
   /// (past `refinements`) is built, once per level (SimulationMeshRefinements::level): a sweep takes
   /// the level's memory from its budget there (host/sweep/memory_budget.h). Optional.
   std::function<void(int level, size_t faces)> before_extra_level;
+  /// Replaces the rule for levels past `refinements` (one more only while the finest three have
+  /// not settled and their cautious estimate exceeds the tolerance): called with the compliances
+  /// so far (h first), true solves one more (within extra_refinements and max_faces). Optional.
+  std::function<bool(const std::vector<double>& compliances)> solve_another;
 };
 
 /// The simulation mesh at a refined edge length, and how it was made ("regenerated" or

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "solvers/conforming/discretisation_estimate.h"
+#include "solvers/conforming/simulation_mesh_choice.h"
 
 namespace cutwork::solvers {
 
@@ -33,15 +34,23 @@ DesignMemory estimate_design_memory(const SceneMeshes& meshes, bool discretisati
   // which a design solves only where the first three levels have not settled (the pavilion's;
   // not the bowl's, the table's or the chair's, which would hold 3–7× their peak for it), is on
   // demand: its memory less the always-solved level's.
-  const double design = 55e6 + 2e3 * double(meshes.base.num_faces()) + 12e3 * double(meshes.sim.num_faces());
+  //
+  // A file's simulation mesh still to be chosen ("auto", SceneMeshes::sim_choice_pending) is
+  // counted as the finest the choice may take, and the levels its study solves first (those of the
+  // file's mesh, h/8 included) as a level held.
+  const size_t file = size_t(meshes.sim.num_faces());
+  const int most = meshes.sim_choice_pending ? most_simulation_subdivisions(size_t(meshes.base.num_faces())) : 0;
+  const size_t n = file << (2 * most);
+  const double design = 55e6 + 2e3 * double(meshes.base.num_faces()) + 12e3 * double(n);
   DesignMemory m;
   m.held = size_t(1.5 * design);
+  size_t level = most > 0 ? largest_refined_level(file, true) : 0;
   if (discretisation_estimate) {
-    const size_t n = size_t(meshes.sim.num_faces());
     const size_t always = largest_refined_level(n, false), extra = largest_refined_level(n, true);
-    m.held += size_t(9e3 * double(always));
+    level = std::max(level, always);
     m.on_demand = size_t(9e3 * double(extra - always));
   }
+  m.held += size_t(9e3 * double(level));
   return m;
 }
 

@@ -26,7 +26,8 @@ struct DesignMemory {
 
 /// DesignMemory of one design on these meshes (`discretisation_estimate`: with the estimate's
 /// levels, DiscretisationOptions: h/2, h/4 and h/8, each kept only while it has at most max_faces
-/// triangles, h/2 always). Measured on the bowl at three sizes and the built-in scenes
+/// triangles, h/2 always). A file's simulation mesh still to be chosen (sim_choice_pending) counts
+/// as the finest the choice may take, with the levels the choice solves. Measured on the bowl at three sizes and the built-in scenes
 /// (docs/SWEEP.md "Memory"), with a margin.
 DesignMemory estimate_design_memory(const SceneMeshes& meshes, bool discretisation_estimate = true);
 

@@ -14,6 +14,7 @@
 #include "host/pattern/stencils_json.h"
 #include "solvers/conforming/conforming_verification.h"
 #include "solvers/conforming/discretisation_estimate.h"
+#include "solvers/conforming/simulation_mesh_choice.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 #include "solvers/objective/energy_density_reference.h"
 #include "solvers/objective/peak_energy_density.h"
@@ -324,12 +325,16 @@ json design_into_folder(const Scene& scene, const std::filesystem::path& dir, co
                         DesignRunInfo info, const std::function<void(const SceneMeshes&)>& on_meshes,
                         const DesignFileOptions& file_options) {
   Stopwatch total, sw;
-  const SceneMeshes meshes = build_scene_meshes(scene);
+  SceneMeshes meshes = build_scene_meshes(scene);
+  // Before a file's "auto" simulation mesh is chosen: its claim covers the finest it may choose and
+  // the levels the choice solves (estimate_design_memory).
+  if (on_meshes) on_meshes(meshes);
+  const std::string choice = choose_simulation_mesh(scene, meshes);
+  if (!choice.empty()) info.notes.push_back(choice);
   info.timings.add("meshes", sw.seconds());
   sw.restart();
   const LoadCase load_case = resolve_load_case(scene, meshes.sim);
   info.timings.add("load_case", sw.seconds());
-  if (on_meshes) on_meshes(meshes);
   sw.restart();
   PatternContext ctx(scene, meshes);
   for (const auto& n : ctx.notes()) info.notes.push_back(n);

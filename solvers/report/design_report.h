@@ -100,8 +100,9 @@ void write_design_outputs(const FilePlacer& place, const DesignOutputs& outputs)
 /// One whole design of `scene` into `dir`, as `cutwork design` makes it: meshes, supports and
 /// loads, pattern context, run_design with `options`, finish_design, add_design_files with
 /// `file_options`, write_design_outputs into an OutputSet on `dir` published as one set.
-/// `on_meshes` (optional) is called once the meshes exist, before the design starts (the sweep
-/// reserves memory there). Returns report.json. Throws what the steps throw; writes nothing
+/// `on_meshes` (optional) is called once the meshes exist, before a file's "auto" simulation mesh
+/// is chosen (SceneMeshes::sim_choice_pending) and the design starts (the sweep reserves memory
+/// there: estimate_design_memory covers what the choice may take). Returns report.json. Throws what the steps throw; writes nothing
 /// unless the design succeeds.
 nlohmann::json design_into_folder(const Scene& scene, const std::filesystem::path& dir, const DesignOptions& options,
                                   DesignRunInfo info = {},

@@ -67,7 +67,9 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                {"sim_vertices", meshes.sim.num_vertices()},
                {"sim_triangles", meshes.sim.num_faces()},
                {"sim_is_base", meshes.sim_is_base},
+               {"sim_subdivisions", meshes.sim_subdivisions},
                {"map_max_distance", meshes.map.max_distance}};
+  if (!meshes.sim_choice.is_null()) r["mesh"]["sim_choice"] = meshes.sim_choice;
   const MechanicsSettings mechanics = used ? *used : scene_mechanics(scene);
   r["mechanics"] = {{"bending", mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                     {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},

@@ -95,7 +95,12 @@ TEST(Cli, CheckSummarisesAMesh) {
   EXPECT_NE(r.out.find("Euler characteristic 1"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("a plain mesh; using defaults"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("boundary vertices"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("supports: 8 fixed vertices"), std::string::npos) << r.out;
+  // Simulated on the grid divided three times (the first subdivision within 2% of converged: 51%,
+  // 15%, 3.5%, 0.9% from 8 to 512 triangles), whose boundary has 64 vertices.
+  EXPECT_NE(r.out.find("mesh.sim_subdivisions auto: simulating on the file's mesh divided 3 times (512 triangles)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("supports: 64 fixed vertices"), std::string::npos) << r.out;
   // Two triangles: every vertex is on the boundary, so nothing is left to simulate — `check`
   // says so (it validates what a simulation needs), one line, exit 2.
   write_text(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");

@@ -112,7 +112,9 @@ TEST(CellFilter, MarkedFacesKeepTheirOwnFillRatio) {
   const auto& B = kept.matrix();
   for (int t = 0; t < B.outerSize(); ++t)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, t); it; ++it) {
-      if (marked[size_t(it.col())]) EXPECT_EQ(it.row(), it.col()) << "face " << it.col() << " in row " << it.row();
+      if (marked[size_t(it.col())]) {
+        EXPECT_EQ(it.row(), it.col()) << "face " << it.col() << " in row " << it.row();
+      }
     }
   EXPECT_NEAR((kept.apply(Eigen::VectorXd::Ones(mesh.num_faces())).array() - 1).abs().maxCoeff(), 0.0, 1e-14);
   // A solid margin at the clamp (α = 1 there) and a uniform lattice inside (α = 0.4): the faces

@@ -202,3 +202,38 @@ inline SurfaceMesh jittered(const SurfaceMesh& mesh, double amount, unsigned see
 }
 
 }  // namespace cutwork::test
+
+namespace cutwork::test {
+
+/// A spherical cap of footprint radius 0.3 m rising 0.1 m, its rim on z = 0 (what a user's mesh
+/// file of a dome looks like: flat facets, the rim on the ground), on `rings` rings of
+/// `sectors` vertices (alternate rings turned half a sector); `resting_on_apex` turns it upside
+/// down (a bowl resting on its bottom point).
+inline SurfaceMesh spherical_cap(int rings, int sectors, bool resting_on_apex = false) {
+  const double R = 0.3, H = 0.1, rho = (R * R + H * H) / (2 * H);
+  std::vector<Vec3> v{Vec3(0, 0, H)};
+  for (int i = 1; i <= rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const double r = R * i / rings, t = 2 * std::numbers::pi * (j + 0.5 * (i % 2)) / sectors;
+      v.emplace_back(r * std::cos(t), r * std::sin(t), std::sqrt(rho * rho - r * r) - (rho - H));
+    }
+  const auto id = [&](int i, int j) { return i == 0 ? 0 : 1 + (i - 1) * sectors + (j % sectors); };
+  std::vector<Eigen::Vector3i> f;
+  for (int j = 0; j < sectors; ++j) f.emplace_back(0, id(1, j), id(1, j + 1));
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      f.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      f.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  // Upside down: z mirrored and every face turned, so that the normals still point outwards.
+  RowMatX3d V(v.size(), 3);
+  for (size_t k = 0; k < v.size(); ++k)
+    V.row(Eigen::Index(k)) = Vec3(v[k].x(), v[k].y(), resting_on_apex ? -v[k].z() : v[k].z()).transpose();
+  RowMatX3i F(f.size(), 3);
+  for (size_t k = 0; k < f.size(); ++k)
+    F.row(Eigen::Index(k)) =
+        resting_on_apex ? Eigen::RowVector3i(f[k][0], f[k][2], f[k][1]) : Eigen::RowVector3i(f[k].transpose());
+  return SurfaceMesh(V, F, "cap");
+}
+
+}  // namespace cutwork::test
