@@ -14,9 +14,12 @@
 #include <fmt/format.h>
 
 #include "host/core/json_io.h"
+#include "host/mesh/mesh_io.h"
 #include "host/scene/scene.h"
 #include "solvers/conforming/discretisation_estimate.h"
+#include "solvers/conforming/simulation_mesh_choice.h"
 #include "solvers/report/design_memory.h"
+#include "tests/solvers/support/test_meshes.h"
 #include "tests/support/test_support.h"
 
 extern char** environ;
@@ -71,6 +74,31 @@ TEST(SweepMemory, TheExtraLevelIsOnDemand) {
   EXPECT_EQ(without.on_demand, 0u);
   EXPECT_EQ(with.held - without.held, size_t(9e3 * double(16 * n)));
   EXPECT_EQ(with.on_demand, size_t(9e3 * double(48 * n)));  // 64 n at h/8 less the 16 n of h/4, freed before it
+}
+
+// A file's simulation mesh still to be chosen (mesh.sim_subdivisions "auto"): the claim is made
+// before the choice, so it covers the finest the choice may take and the levels it solves.
+TEST(SweepMemory, AFileMeshStillToBeChosenClaimsTheFinestItMayTake) {
+  const fs::path dir = test::temp_dir("sweep-memory-file");
+  const SurfaceMesh dome = test::spherical_cap(9, 36);  // 612 facets: "auto" may divide them 3 times
+  write_obj(dir / "dome.obj", dome.vertices(), dome.faces());
+  const Scene scene = load_scene((dir / "dome.obj").string());
+  SceneMeshes pending = build_scene_meshes(scene);
+  ASSERT_TRUE(pending.sim_choice_pending);
+  const int most = solvers::most_simulation_subdivisions(size_t(dome.num_faces()));
+  ASSERT_EQ(most, 3);  // 39,168 triangles, whose h/2 is 156,672
+  const solvers::DesignMemory claim = solvers::estimate_design_memory(pending, true);
+  for (int k = 0; k <= most; ++k) {
+    SceneMeshes chosen = pending;
+    chosen.sim_choice_pending = false;
+    use_subdivided_simulation_mesh(chosen, k);
+    const solvers::DesignMemory m = solvers::estimate_design_memory(chosen, true);
+    EXPECT_GE(claim.held, m.held) << k;
+    EXPECT_GE(claim.most(), m.most()) << k;
+  }
+  // The choice's study solves the file's mesh's levels up to h/8 (39,168 triangles) first.
+  EXPECT_GE(claim.held, size_t(9e3 * 64 * double(dome.num_faces())));
+  fs::remove_all(dir);
 }
 
 /// Whether the design in `dir` solved its discretisation estimate's extra level (h/8): its
