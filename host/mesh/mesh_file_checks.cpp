@@ -232,6 +232,10 @@ void check_ply_structure(std::string_view content, const std::string& what) {
       if (t.size() != 3) bad_line("expected 'element <name> <count>'");
       const auto count = as_integer(t[2]);
       if (!count || *count < 0) bad_line("the element count is not a non-negative integer");
+      // assimp reads the leading digits of a name such as "8888888888888vertex" as a count and
+      // allocated 62 GB for it (fuzz-regressions/mesh_ply/oom-element-name-with-leading-digits.ply).
+      const unsigned char first = static_cast<unsigned char>(t[1].front());
+      if (!(std::isalpha(first) || first == '_')) bad_line("an element name must start with a letter");
       elements.push_back({t[1], *count, {}});
     } else if (t[0] == "property") {
       if (elements.empty()) bad_line("a property before any element");

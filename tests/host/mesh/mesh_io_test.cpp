@@ -428,6 +428,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"nul_in_property_name.ply",
                 "PLY header line 5 has a control byte 0x00 at column 16 (binary data in the header, or "
                 "not a PLY file)"},
+        // An element name that starts with digits: assimp read them as a count and allocated 62 GB
+        // (out of memory under AddressSanitizer, found by fuzzing).
+        BadFile{"element_name_with_leading_digits.ply",
+                "PLY header line 4 'element 8888888888888vertex 4': an element name must start with a letter"},
         BadFile{"missing_y_property.ply", "the PLY vertex element has no 'y' property (positions are x, y and z)"},
         // Two format lines (binary, then ascii): this check read the data as ASCII, assimp as binary
         // and crashed (SEGV, found by fuzzing; ascii then binary leaked).
