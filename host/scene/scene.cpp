@@ -171,6 +171,13 @@ MeshSpec parse_mesh_section(JsonObjectReader& root, const fs::path& base_dir) {
     if (!is_mesh_file(mesh.file))
       m.fail("file", "'" + f + "' is not a mesh file (accepted: .obj .ply .off .stl)");
     mesh.sim_edge_length = 0;
+    static const std::vector<std::pair<std::string, double>> units = {
+        {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}};
+    std::vector<std::string> names;
+    for (const auto& [n, v] : units) names.push_back(n);
+    mesh.unit_name = m.string("unit", "m", names);
+    for (const auto& [n, v] : units)
+      if (n == mesh.unit_name) mesh.unit = v;
     const nlohmann::json* sub = m.child("sim_subdivisions");
     if (sub && sub->is_string())
       (void)m.string("sim_subdivisions", "auto", {"auto"});
@@ -470,7 +477,7 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                  {"edge_length", s.mesh.edge_length},
                  {"sim_edge_length", s.mesh.sim_edge_length}};
   } else {
-    j["mesh"] = {{"file", s.mesh.file.string()}};
+    j["mesh"] = {{"file", s.mesh.file.string()}, {"unit", s.mesh.unit_name}};
     if (s.mesh.sim_subdivisions == kAutoSubdivisions)
       j["mesh"]["sim_subdivisions"] = "auto";
     else
@@ -626,9 +633,16 @@ Scene load_scene(const std::string& what, std::string* notice) {
     Scene s = parse_scene(doc, path.string());
     s.from_plain_mesh = true;
     s.source = path;
+    // Coordinates are metres; a part printed from an STL is usually drawn in millimetres.
+    const double size = (mesh.bbox_max() - mesh.bbox_min()).maxCoeff();
+    const std::string unit_hint =
+        size > 100 ? fmt::format(" (it is {:.3g} m across: coordinates are read as metres; a file drawn in millimetres "
+                                 "needs a scene with \"mesh\": {{\"file\": ..., \"unit\": \"mm\"}})",
+                                 size)
+                   : std::string();
     if (notice)
       *notice = path.string() + ": a plain mesh; using defaults: self-weight, " + support.description +
-                " pinned, circle stencils";
+                " pinned, circle stencils" + unit_hint;
     return s;
   }
   if (path.extension() != ".json")
@@ -665,6 +679,8 @@ SceneMeshes build_scene_meshes(const Scene& scene) {
     }
   } else {
     out.base = read_mesh(scene.mesh.file);
+    if (scene.mesh.unit != 1.0)
+      out.base = SurfaceMesh(out.base.vertices() * scene.mesh.unit, out.base.faces(), scene.mesh.file.string());
     out.sim = out.base;
     out.sim_is_base = true;
     out.sim_choice_pending = scene.mesh.sim_subdivisions == kAutoSubdivisions;

@@ -27,6 +27,10 @@ struct MeshSpec {
   /// midpoints (the same flat facets, finer), or kAutoSubdivisions: as many as the uncut shell
   /// needs to be within the discretisation tolerance (solvers/conforming/simulation_mesh_choice.h).
   int sim_subdivisions = -1;
+  /// Files only: the length of one of the file's coordinate units in metres (`unit`: "m" 1, "cm"
+  /// 0.01, "mm" 0.001, "in" 0.0254); the mesh is scaled by it when read.
+  double unit = 1.0;
+  std::string unit_name = "m";
 };
 
 /// MeshSpec::sim_subdivisions "auto", and the most a scene may ask for (256× the triangles).

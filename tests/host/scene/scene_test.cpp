@@ -376,5 +376,33 @@ TEST(Scene, SimulationSubdivisionsOfAFile) {
   std::filesystem::remove_all(dir);
 }
 
+// A mesh file drawn in millimetres (what a part's STL usually is): mesh.unit scales it to metres;
+// given plainly, a model over 100 m across is read as it is, and the note says how to read it.
+TEST(Scene, AFileDrawnInMillimetres) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cutwork-scene-unit";
+  std::filesystem::create_directories(dir);
+  const SurfaceMesh cap = test::spherical_cap(3, 12);
+  write_obj(dir / "cap_mm.obj", cap.vertices() * 1000.0, cap.faces());
+  nlohmann::json d = {{"name", "t"},
+                      {"mesh", {{"file", (dir / "cap_mm.obj").string()}, {"unit", "mm"}, {"sim_subdivisions", 0}}},
+                      {"supports", nlohmann::json::array({{{"type", "pinned"}, {"select", {{"entity", "boundary_vertices"}}}}})},
+                      {"loads", nlohmann::json::array({{{"type", "self_weight"}}})}};
+  const Scene s = parse_scene(d, "test");
+  EXPECT_EQ(s.mesh.unit, 0.001);
+  EXPECT_EQ(scene_to_json(s)["mesh"]["unit"], "mm");
+  const SceneMeshes m = build_scene_meshes(s);
+  EXPECT_NEAR((m.base.vertices() - cap.vertices()).cwiseAbs().maxCoeff(), 0.0, 1e-12);
+  d["mesh"]["unit"] = "furlong";
+  expect_rejected(d, {"/mesh/unit", "unknown value 'furlong'", "m, cm, mm, in"});
+  std::string notice;
+  (void)load_scene((dir / "cap_mm.obj").string(), &notice);
+  EXPECT_NE(notice.find("it is 580 m across: coordinates are read as metres"), std::string::npos) << notice;
+  EXPECT_NE(notice.find("\"unit\": \"mm\""), std::string::npos) << notice;
+  write_obj(dir / "cap.obj", cap.vertices(), cap.faces());
+  (void)load_scene((dir / "cap.obj").string(), &notice);
+  EXPECT_EQ(notice.find("across"), std::string::npos) << notice;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace cutwork
