@@ -73,6 +73,16 @@ std::unique_ptr<OutputSet> open_output_set(const RunOptions& opts) {
 }
 
 namespace {
+std::string& hint_storage() {
+  static std::string hint;
+  return hint;
+}
+}  // namespace
+
+void set_solve_error_hint(std::string hint) { hint_storage() = std::move(hint); }
+const std::string& solve_error_hint() { return hint_storage(); }
+
+namespace {
 template <typename F>
 auto timed(Timings& timings, const char* name, F&& f) {
   Stopwatch sw;
@@ -93,6 +103,7 @@ LoadedScene::LoadedScene(const RunOptions& opts, Timings& timings)
       meshes(timed(timings, "meshes",
                    [&] {
                      SceneMeshes m = build_scene_meshes(scene);
+                     if (scene.from_plain_mesh) set_solve_error_hint(metres_hint(m.base));
                      const std::string note = solvers::choose_simulation_mesh(scene, m);
                      if (!note.empty()) notes.push_back(note);
                      return m;

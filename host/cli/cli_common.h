@@ -50,6 +50,11 @@ std::unique_ptr<OutputSet> open_output_set(const RunOptions& opts);
 /// What every pipeline command starts with: the scene, its meshes and the supports and loads on
 /// the simulation mesh, timed into `timings` ("scene", "meshes", "load_case"). `notes` collects
 /// what to tell the user once the run has succeeded (a failure prints one line only).
+/// Said after a SolveError's line by main (one line still): set where a run knows more of why a
+/// solve may fail (a plain mesh read as metres that is likely millimetres: metres_hint).
+void set_solve_error_hint(std::string hint);
+const std::string& solve_error_hint();
+
 struct LoadedScene {
   LoadedScene(const RunOptions& opts, Timings& timings);
   std::vector<std::string> notes;

@@ -7,7 +7,9 @@
 #include <exception>
 #include <iostream>
 
+#include "host/cli/cli_common.h"
 #include "host/cli/commands.h"
+#include "host/core/error.h"
 #include "host/core/exit_status.h"
 #include "solvers/linear/thread_policy.h"
 
@@ -41,7 +43,14 @@ int main(int argc, char** argv) {
   } catch (...) {
     // User errors exit 2, interruptions 128 + signal, bugs in cutwork 1 (host/core/exit_status.h).
     const cutwork::ExitStatus status = cutwork::exit_status_for(std::current_exception());
-    std::cerr << status.line << "\n";
+    std::string hint;
+    try {
+      throw;
+    } catch (const cutwork::SolveError&) {
+      hint = cutwork::cli::solve_error_hint();
+    } catch (...) {
+    }
+    std::cerr << status.line << hint << "\n";
     return status.code;
   }
   return 0;

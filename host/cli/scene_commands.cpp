@@ -91,6 +91,7 @@ void add_check_command(CLI::App& app) {
     std::string notice;
     const Scene scene = load_scene(*what, &notice);
     SceneMeshes meshes = build_scene_meshes(scene);
+    if (scene.from_plain_mesh) set_solve_error_hint(metres_hint(meshes.base));
     // A file's simulation mesh "auto" is chosen by solving the uncut shell: with the equilibrium.
     const bool choice_pending = meshes.sim_choice_pending && *no_equilibrium;
     const std::string choice = *no_equilibrium ? std::string() : solvers::choose_simulation_mesh(scene, meshes);

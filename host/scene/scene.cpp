@@ -604,6 +604,15 @@ PlainMeshSupport plain_mesh_support(const SurfaceMesh& mesh) {
   return out;
 }
 
+std::string metres_hint(const SurfaceMesh& mesh) {
+  // Coordinates are metres; a part printed from an STL is usually drawn in millimetres.
+  const double size = (mesh.bbox_max() - mesh.bbox_min()).maxCoeff();
+  if (!(size > 100)) return {};
+  return fmt::format(" (it is {:.3g} m across: coordinates are read as metres; a file drawn in millimetres needs a "
+                     "scene with \"mesh\": {{\"file\": ..., \"unit\": \"mm\"}})",
+                     size);
+}
+
 Scene load_scene(const std::string& what, std::string* notice) {
   fs::path path(what);
   std::error_code ec;
@@ -633,13 +642,7 @@ Scene load_scene(const std::string& what, std::string* notice) {
     Scene s = parse_scene(doc, path.string());
     s.from_plain_mesh = true;
     s.source = path;
-    // Coordinates are metres; a part printed from an STL is usually drawn in millimetres.
-    const double size = (mesh.bbox_max() - mesh.bbox_min()).maxCoeff();
-    const std::string unit_hint =
-        size > 100 ? fmt::format(" (it is {:.3g} m across: coordinates are read as metres; a file drawn in millimetres "
-                                 "needs a scene with \"mesh\": {{\"file\": ..., \"unit\": \"mm\"}})",
-                                 size)
-                   : std::string();
+    const std::string unit_hint = metres_hint(mesh);
     if (notice)
       *notice = path.string() + ": a plain mesh; using defaults: self-weight, " + support.description +
                 " pinned, circle stencils" + unit_hint;

@@ -194,6 +194,11 @@ struct PlainMeshSupport {
 };
 PlainMeshSupport plain_mesh_support(const SurfaceMesh& mesh);
 
+/// For a mesh over 100 m across: " (it is … m across: coordinates are read as metres; a file drawn in
+/// millimetres needs a scene with "unit": "mm")", said of a plain mesh (its note, and a solve's
+/// error: a part drawn in millimetres read as metres cannot carry its own weight); "" otherwise.
+std::string metres_hint(const SurfaceMesh& mesh);
+
 /// Loads `what`: a built-in scene name, a scene file (.json), or a mesh file (defaults: self
 /// weight, the lowest vertices supported; `notice` receives a line saying so).
 Scene load_scene(const std::string& what, std::string* notice = nullptr);

@@ -17,6 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/mesh/mesh_io.h"
+#include "tests/solvers/support/test_meshes.h"
 #include "tests/support/test_support.h"
 
 namespace cutwork {
@@ -230,6 +232,31 @@ TEST(CliRobustness, AShellTooThinForItsMeshIsSaidToBe) {
   const auto weak = cutwork(run + (dir / "b").string());
   expect_one_line_error(weak, {"the structure can carry none of the load (not even 0.002 of it: at that fraction"});
   EXPECT_EQ(weak.err.find("too thin"), std::string::npos) << weak.err;
+  fs::remove_all(dir);
+}
+
+// A part's mesh drawn in millimetres (what a printer's STL usually is) given plainly is read as
+// metres: a 0.6 m dome becomes 600 m across, which 3 mm of PA12 cannot hold up. The one line says
+// so and how to read it; the same file in millimetres through a scene is the dome it is.
+TEST(CliRobustness, APlainMeshInMillimetresIsSaidToBeReadAsMetres) {
+  const fs::path dir = test::temp_dir("robust_mm");
+  const SurfaceMesh dome = test::spherical_cap(6, 24);
+  write_obj(dir / "dome_mm.obj", dome.vertices() * 1000.0, dome.faces());
+  for (const std::string& command : {std::string("check"), "simulate --out " + (dir / "out").string()})
+    expect_one_line_error(cutwork(command + " " + (dir / "dome_mm.obj").string()),
+                          {"the structure can carry", "(it is 600 m across: coordinates are read as metres",
+                           "\"unit\": \"mm\""});
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  std::ofstream(dir / "dome.json") << nlohmann::json{
+      {"mesh", {{"file", "dome_mm.obj"}, {"unit", "mm"}}},
+      {"supports", {{{"type", "pinned"}, {"select", {{"entity", "vertices"}, {"z", {{"below", 1e-6}}}}}}}},
+      {"loads", {{{"type", "self_weight"}}}}};
+  const auto ok = cutwork("check " + (dir / "dome.json").string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("carries the whole load"), std::string::npos) << ok.out;
+  // A run that fails for another reason says nothing of units.
+  const auto other = cutwork("check " + (dir / "dome.json").string() + " --max-faces 3");
+  EXPECT_EQ(other.err.find("metres"), std::string::npos) << other.err;
   fs::remove_all(dir);
 }
 
