@@ -134,16 +134,22 @@ void add_check_command(CLI::App& app) {
       std::cout << "simulation mesh: the base mesh\n";
     else
       print_mesh(fmt::format("simulation mesh (the base mesh divided {} times)", meshes.sim_subdivisions), meshes.sim);
-    int fixed = 0, clamped = 0;
+    int fixed = 0, clamped = 0, held = 0;
     for (size_t v = 0; v < lc.fixed.size(); ++v) {
       fixed += lc.fixed[v];
       clamped += lc.clamped[v];
+      held += !lc.fixed[v] && !lc.held_axes.empty() && lc.held_axes[v] != 0;
     }
-    std::cout << fmt::format("supports: {} fixed vertices ({} clamped)\n", fixed, clamped);
-    for (const auto& sp : scene.supports)
-      std::cout << fmt::format("  {} at {} ({} {})\n", sp.kind == SupportKind::Clamped ? "clamped" : "pinned",
-                               sp.select.json_path, select_entities(sp.select, meshes.sim).size(),
-                               entity_word(sp.select.entity));
+    std::cout << fmt::format("supports: {} fixed vertices ({} clamped){}\n", fixed, clamped,
+                             held ? fmt::format(", {} held along some axes", held) : "");
+    for (const auto& sp : scene.supports) {
+      std::string axes;
+      for (int a = 0; a < 3 && sp.axes != kHeldAll; ++a)
+        if (sp.axes & (1u << a)) axes += char('x' + a);
+      std::cout << fmt::format("  {}{} at {} ({} {})\n", sp.kind == SupportKind::Clamped ? "clamped" : "pinned",
+                               axes.empty() ? "" : " along " + axes, sp.select.json_path,
+                               select_entities(sp.select, meshes.sim).size(), entity_word(sp.select.entity));
+    }
     std::cout << "loads:\n";
     for (const auto& l : scene.loads) {
       if (l.kind == LoadKind::SelfWeight)

@@ -2,6 +2,7 @@
 /// What the mechanics needs from a scene, resolved onto one (simulation) mesh: plain arrays, no
 /// JSON. Built by host/scene (resolve_load_case) and consumed by solvers/.
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "host/core/types.h"
@@ -168,6 +169,9 @@ struct SurfaceLoad {
   std::vector<std::array<Vec3, 3>> nodal;  ///< F_t: the force on each of the face's vertices at α ≡ 1 (N)
 };
 
+/// Bits of LoadCase::held_axes: the global axes a vertex is held along.
+inline constexpr std::uint8_t kHeldX = 1, kHeldY = 2, kHeldZ = 4, kHeldAll = 7;
+
 /// Supports and loads on a mesh with #V vertices.
 struct LoadCase {
   /// #V: vertex positions that are fixed (pinned).
@@ -175,6 +179,11 @@ struct LoadCase {
   /// #V: vertices whose rotation is clamped as well (a subset of `fixed`). How the mechanics
   /// realises a clamp on a hinge-based shell is documented in solvers/shell.
   std::vector<bool> clamped;
+  /// #V or empty (none): the global axes along which a vertex that is not `fixed` is held at its
+  /// rest position, a bit mask (kHeldX | kHeldY | kHeldZ) — a support that lets the vertex slide
+  /// along the other axes (a roller, a diaphragm, a bearing). 0: free. ShellModel treats a mask of
+  /// all three axes as `fixed`.
+  std::vector<std::uint8_t> held_axes;
   /// #V×3 dead loads (N) that do not depend on the fill ratios: point, edge and area loads.
   RowMatX3d forces;
   /// The loads among `forces` that are spread over the surface, face by face: a model of fill

@@ -237,6 +237,19 @@ std::vector<SupportSpec> parse_supports_section(JsonObjectReader& root, const st
                                                                         : SupportKind::Pinned;
     if (!s.has("select")) s.fail("select", "is required: which vertices are supported");
     spec.select = parse_selector(s.object("select"), Entity::Vertices);
+    if (s.has("axes")) {
+      // The global axes held, e.g. "xz" for a diaphragm across y or "z" for a sliding bearing.
+      const std::string axes = s.string("axes", "xyz");
+      if (spec.kind == SupportKind::Clamped) s.fail("axes", "is for pinned supports: a clamp holds all three axes");
+      spec.axes = 0;
+      for (const char c : axes) {
+        const std::uint8_t bit = c == 'x' ? kHeldX : c == 'y' ? kHeldY : c == 'z' ? kHeldZ : 0;
+        if (bit == 0 || (spec.axes & bit))
+          s.fail("axes", "must name each of the held axes x, y, z at most once, e.g. \"xz\" (got \"" + axes + "\")");
+        spec.axes |= bit;
+      }
+      if (spec.axes == 0) s.fail("axes", "names no axis: give the held ones, e.g. \"xz\", or leave the key out for all three");
+    }
     s.finish();
     supports.push_back(spec);
   }
@@ -494,9 +507,16 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                     {"lattice", s.mechanics.lattice == PerforationLattice::Square ? "square" : "hexagonal"}};
   if (s.mechanics.lattice == PerforationLattice::Square) j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
   j["supports"] = json::array();
-  for (const auto& sp : s.supports)
-    j["supports"].push_back({{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"},
-                             {"select", selector_to_json(sp.select)}});
+  for (const auto& sp : s.supports) {
+    json support = {{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"}, {"select", selector_to_json(sp.select)}};
+    if (sp.axes != kHeldAll) {
+      std::string axes;
+      for (int a = 0; a < 3; ++a)
+        if (sp.axes & (1u << a)) axes += char('x' + a);
+      support["axes"] = axes;
+    }
+    j["supports"].push_back(support);
+  }
   j["loads"] = json::array();
   for (const auto& l : s.loads) {
     json lj;
@@ -809,6 +829,11 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
   };
   for (const auto& sp : scene.supports) {
     for (int v : vertices_of(sp.select, selected(sp.select))) {
+      if (sp.axes != kHeldAll) {  // pinned along some axes: the union of every support's
+        if (lc.held_axes.empty()) lc.held_axes.assign(std::size_t(nv), 0);
+        lc.held_axes[std::size_t(v)] |= sp.axes;
+        continue;
+      }
       lc.fixed[v] = true;
       if (sp.kind == SupportKind::Clamped) lc.clamped[v] = true;
     }

@@ -56,6 +56,9 @@ struct Selector {
 struct SupportSpec {
   SupportKind kind = SupportKind::Pinned;
   Selector select;
+  /// The global axes a pinned support holds (LoadCase::held_axes bits; `"axes": "xz"`): all three by
+  /// default; fewer let the vertices slide along the others. A clamp holds all three.
+  std::uint8_t axes = kHeldAll;
 };
 
 enum class LoadKind {

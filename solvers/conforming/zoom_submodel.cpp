@@ -90,6 +90,7 @@ LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const
   const size_t nv = size_t(sub.num_vertices());
   lc.fixed.assign(nv, false);
   lc.clamped.assign(nv, false);
+  lc.held_axes.assign(nv, 0);
   lc.forces = RowMatX3d::Zero(sub.num_vertices(), 3);
   lc.gravity = level.gravity;
   lc.load_measures.assign(scene.loads.size(), 0.0);
@@ -102,6 +103,7 @@ LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const
       for (size_t v = 0; v < nv; ++v) {
         lc.fixed[v] = lc.fixed[v] || s.fixed[v];
         lc.clamped[v] = lc.clamped[v] || s.clamped[v];
+        if (!s.held_axes.empty()) lc.held_axes[v] |= s.held_axes[v];
       }
     } catch (const InputError&) {
       // selects nothing on the patch
@@ -163,6 +165,9 @@ SubmodelSolution solve_submodel(const ZoomPatch& patch, const SurfaceMesh& sub, 
       x.row(v) = X.row(v) + u.row(it->second);
     } else if (lc.fixed[size_t(v)]) {  // the scene's own support
       x.row(v) = X.row(v);
+    } else if (!lc.held_axes.empty() && lc.held_axes[size_t(v)] != 0) {  // held along some axes
+      for (int a = 0; a < 3; ++a)
+        if (lc.held_axes[size_t(v)] & (1u << a)) x(v, a) = X(v, a);
     }
   }
   if (found != held.size())

@@ -167,6 +167,11 @@ void EquilibriumSolver::start_from(const RowMatX3d& x) {
   if (!lc.held_motion)
     for (Eigen::Index v = 0; v < x.rows(); ++v)
       if (size_t(v) < lc.fixed.size() && lc.fixed[size_t(v)]) m_guess.row(v) = rest.row(v);
+  // A vertex held along some axes stays at rest along them: Newton never moves it there.
+  for (Eigen::Index v = 0; v < x.rows(); ++v)
+    if (size_t(v) < lc.held_axes.size())
+      for (int a = 0; a < 3; ++a)
+        if (lc.held_axes[size_t(v)] & (1u << a)) m_guess(v, a) = rest(v, a);
 }
 
 RowMatX3d EquilibriumSolver::displacements() const { return m_x - m_model.rest_positions(); }
@@ -487,7 +492,8 @@ const EquilibriumStats& EquilibriumSolver::solve(const Eigen::VectorXd& alpha) {
   model.check_fill_ratios(alpha);
   m_stats = EquilibriumStats{};
   const RowMatX3d forces = model.external_forces(alpha);
-  const Eigen::VectorXd load = model.gather_free(forces);
+  Eigen::VectorXd load = model.gather_free(forces);
+  model.zero_held(load);  // what pushes along a held axis goes to the support
   if (!load.allFinite()) throw SolveError("the loads are not finite");
   m_stats.load_norm = load.norm();
   if (!std::isfinite(m_stats.load_norm))
@@ -534,8 +540,10 @@ Eigen::VectorXd EquilibriumSolver::solve_adjoint(const Eigen::VectorXd& rhs) con
     throw InternalError(fmt::format("adjoint right-hand side has {} entries, the model {} free DOFs",
                                     rhs.size(), m_model.num_dofs()));
   Stopwatch sw;
+  Eigen::VectorXd held_rhs = rhs;
+  m_model.zero_held(held_rhs);  // the adjoint of a held DOF is zero, as if it were eliminated
   Eigen::VectorXd out(rhs.size());
-  m_cholmod.solve(rhs.data(), out.data());
+  m_cholmod.solve(held_rhs.data(), out.data());
   m_adjoint_seconds += sw.seconds();
   return out;
 }

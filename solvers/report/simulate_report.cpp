@@ -48,15 +48,17 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
                         {"thickness", scene.material.thickness},
                         {"density", scene.material.density},
                         {"bending_stiffness", k.bending}};
-  int fixed = 0, clamped = 0;
+  int fixed = 0, clamped = 0, held = 0;
   for (int v = 0; v < model.num_vertices(); ++v) {
     fixed += model.fixed()[v] ? 1 : 0;
     clamped += model.load_case().clamped[v] ? 1 : 0;
+    held += !model.fixed()[v] && model.load_case().held_axes[size_t(v)] != 0 ? 1 : 0;
   }
   const CholmodSolver& chol = solver.linear_solver();
   report["solver"] = {{"dofs", model.num_dofs()},
                       {"fixed_vertices", fixed},
                       {"clamped_vertices", clamped},
+                      {"held_vertices", held},
                       {"membranes", model.num_faces()},
                       {"bending", scene.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                       {"stiffness", model.fill_stiffness().linear() ? "linear" : "homogenised"},

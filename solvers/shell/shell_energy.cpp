@@ -138,6 +138,8 @@ void assemble_shell(const ShellModel& model, const RowMatX3d& x, const Eigen::Ve
     }
   });
   out.energy = ordered_sum(out.element_energy);
+  model.zero_held(out.gradient);
+  if (hess) model.hold_in_hessian(out.hessian);
 }
 
 Eigen::VectorXd weighted_element_gradient(const ShellModel& model, const RowMatX3d& x,
@@ -151,6 +153,7 @@ Eigen::VectorXd weighted_element_gradient(const ShellModel& model, const RowMatX
       asmb.scatter_vector<K>(e, l.gradient, g.data());
     });
   });
+  model.zero_held(g);
   return g;
 }
 

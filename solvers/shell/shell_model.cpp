@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -31,10 +32,16 @@ std::string point_text(const Vec3& p) { return fmt::format("({:.4g}, {:.4g}, {:.
 void check_load_case(LoadCase& lc, int nv, int nf) {
   if (lc.fixed.empty()) lc.fixed.assign(nv, false);
   if (lc.clamped.empty()) lc.clamped.assign(nv, false);
+  if (lc.held_axes.empty()) lc.held_axes.assign(std::size_t(nv), 0);
   if (lc.forces.rows() == 0) lc.forces = RowMatX3d::Zero(nv, 3);
-  if (int(lc.fixed.size()) != nv || int(lc.clamped.size()) != nv || lc.forces.rows() != nv)
-    throw InputError(fmt::format("load case: sized for {} / {} / {} vertices, the mesh has {}",
-                                 lc.fixed.size(), lc.clamped.size(), lc.forces.rows(), nv));
+  if (int(lc.fixed.size()) != nv || int(lc.clamped.size()) != nv || int(lc.held_axes.size()) != nv ||
+      lc.forces.rows() != nv)
+    throw InputError(fmt::format("load case: sized for {} / {} / {} / {} vertices, the mesh has {}",
+                                 lc.fixed.size(), lc.clamped.size(), lc.held_axes.size(), lc.forces.rows(), nv));
+  for (int v = 0; v < nv; ++v)
+    if (lc.held_axes[std::size_t(v)] > kHeldAll)
+      throw InputError(fmt::format("load case: vertex {} is held along axes {:#x}, not a mask of x, y, z", v,
+                                   lc.held_axes[std::size_t(v)]));
   for (int v = 0; v < nv; ++v) {
     if (!lc.forces.row(v).allFinite())
       throw SolveError(fmt::format("the loads are not finite: vertex {} carries the force {} N", v,
@@ -60,11 +67,45 @@ void check_load_case(LoadCase& lc, int nv, int nf) {
   }
 }
 
+/// The rigid motion u(p) = t + ω × p that supports of a part leave free, if any: the rows
+/// e_a · u(p_v) = 0 of every held axis a of every supported vertex v (all three for a fixed one),
+/// accumulated as JᵀJ over (t, ω) with p taken from the part's centre and scaled by its size. An
+/// empty string when they hold all six motions, else the motion in words.
+std::string free_rigid_motion(const RowMatX3d& X, const std::vector<int>& supported,
+                              const std::vector<std::uint8_t>& axes, const Vec3& centre, double size) {
+  Eigen::Matrix<double, 6, 6> jtj = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t i = 0; i < supported.size(); ++i) {
+    const Vec3 p = (X.row(supported[i]).transpose() - centre) / size;
+    for (int a = 0; a < 3; ++a) {
+      if (!(axes[i] & (1u << a))) continue;
+      Eigen::Matrix<double, 6, 1> row;
+      row << Vec3::Unit(a), p.cross(Vec3::Unit(a));
+      jtj += row * row.transpose();
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(jtj);
+  const double largest = std::max(eig.eigenvalues()(5), 1e-300);
+  if (eig.eigenvalues()(0) > 1e-10 * largest) return {};
+  const Eigen::Matrix<double, 6, 1> m = eig.eigenvectors().col(0);
+  const Vec3 t = m.head<3>(), w = m.tail<3>();
+  auto axis_text = [](const Vec3& d) {
+    const Vec3 u = d.normalized();
+    return fmt::format("({:.3g}, {:.3g}, {:.3g})", std::abs(u.x()) < 1e-9 ? 0.0 : u.x(),
+                       std::abs(u.y()) < 1e-9 ? 0.0 : u.y(), std::abs(u.z()) < 1e-9 ? 0.0 : u.z());
+  };
+  if (w.norm() < 1e-6 * t.norm()) return "a translation along " + axis_text(t);
+  // u(p) = t + ω × p is a rotation about the line through q = ω × t / |ω|² (plus a slide t·ω̂ along it).
+  const Vec3 q = centre + size * w.cross(t) / w.squaredNorm();
+  return "a rotation about the axis " + axis_text(w) + " through " + point_text(q);
+}
+
 /// Every connected part of the mesh must be held against rigid motion: some fixed vertex, and
 /// supports off one line unless the part is clamped (a clamp hinge, or a bend element with a
-/// ghost node). Throws SolveError naming the part otherwise.
+/// ghost node); a part held along some axes only (LoadCase::held_axes) must have its held axes
+/// stop all six rigid motions. Throws SolveError naming the part otherwise.
 void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced, const std::vector<bool>& fixed,
-                    const std::vector<ClampHinge>& clamps, const std::vector<ShellBend>& bends) {
+                    const std::vector<std::uint8_t>& held_axes, const std::vector<ClampHinge>& clamps,
+                    const std::vector<ShellBend>& bends) {
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   const RowMatX3d& X = mesh.vertices();
   const RowMatX3i& F = mesh.faces();
@@ -72,15 +113,17 @@ void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced
   std::iota(parent.begin(), parent.end(), 0);
   for (int f = 0; f < nf; ++f)
     for (int k = 1; k < 3; ++k) parent[find_root(parent, F(f, k))] = find_root(parent, F(f, 0));
-  std::vector<std::vector<int>> fixed_of(nv);
+  std::vector<std::vector<int>> fixed_of(nv), held_of(nv);
   std::vector<int> faces_of(nv, 0);
   std::vector<bool> clamped_part(nv, false);
   bool any_fixed = false;
-  for (int v = 0; v < nv; ++v)
-    if (referenced[v] && fixed[v]) {
-      fixed_of[find_root(parent, v)].push_back(v);
-      any_fixed = true;
-    }
+  for (int v = 0; v < nv; ++v) {
+    if (!referenced[v]) continue;
+    if (fixed[v]) fixed_of[find_root(parent, v)].push_back(v);
+    else if (held_axes[std::size_t(v)] != 0) held_of[find_root(parent, v)].push_back(v);
+    else continue;
+    any_fixed = true;
+  }
   for (int f = 0; f < nf; ++f) ++faces_of[find_root(parent, F(f, 0))];
   for (const ClampHinge& ch : clamps) clamped_part[find_root(parent, ch.v[0])] = true;
   for (const ShellBend& b : bends)
@@ -104,6 +147,25 @@ void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced
     const Vec3 centre = 0.5 * (part_lo[r] + part_hi[r]);
     const double size = (part_hi[r] - part_lo[r]).norm();
     const auto& fx = fixed_of[r];
+    if (!held_of[r].empty()) {
+      // Held along some axes: whether those rows stop every rigid motion (a clamp stops the
+      // rotations about its line, so a clamped part needs only its translations stopped — a fixed
+      // vertex does that).
+      if (clamped_part[r] && !fx.empty()) continue;
+      std::vector<int> supported = fx;
+      std::vector<std::uint8_t> axes(fx.size(), kHeldAll);
+      for (int v : held_of[r]) {
+        supported.push_back(v);
+        axes.push_back(held_axes[std::size_t(v)]);
+      }
+      const std::string motion = free_rigid_motion(X, supported, axes, centre, std::max(size, 1e-300));
+      if (!motion.empty())
+        throw SolveError(fmt::format(
+            "the model is not supported: the supports of the part with {} triangles around {} leave it free "
+            "to move rigidly ({}): hold more axes or more points",
+            faces_of[r], point_text(centre), motion));
+      continue;
+    }
     if (fx.empty())
       throw SolveError(fmt::format(
           "the model is not supported: the part of the mesh with {} triangles around {} has no "
@@ -202,7 +264,11 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
     for (int k = 0; k < 3; ++k) referenced[F(f, k)] = true;
 
   m_fixed.assign(nv, false);
-  for (int v = 0; v < nv; ++v) m_fixed[v] = lc.fixed[v] || lc.clamped[v];
+  for (int v = 0; v < nv; ++v) {
+    if (lc.held_axes[std::size_t(v)] == kHeldAll) lc.fixed[v] = true;
+    m_fixed[v] = lc.fixed[v] || lc.clamped[v];
+    if (m_fixed[v]) lc.held_axes[std::size_t(v)] = 0;
+  }
 
   // --- DOF numbering: free, referenced vertices in vertex order ----------------------------------
   m_vertex_node.assign(nv, -1);
@@ -248,7 +314,7 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   // --- supports: every connected part must be held against rigid motion -----------------------
   if (m_node_vertex.empty())
     throw SolveError("nothing to solve: every vertex of the mesh is fixed");
-  check_supports(mesh, referenced, m_fixed, m_clamps, m_bends);
+  check_supports(mesh, referenced, m_fixed, lc.held_axes, m_clamps, m_bends);
 
   // --- loads must load the free part ----------------------------------------------------------
   bool loaded = false;
@@ -262,6 +328,37 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
         "supported vertices, and there is no self-weight): add a load");
 
   m_assembly = assembly_pattern(*this);
+
+  // --- DOFs held along some axes: their rows and columns of the Hessian, once -------------------
+  std::vector<bool> held(std::size_t(num_dofs()), false);
+  for (int n = 0; n < num_nodes(); ++n)
+    for (int a = 0; a < 3; ++a)
+      if (lc.held_axes[std::size_t(m_node_vertex[n])] & (1u << a)) {
+        held[std::size_t(3 * n + a)] = true;
+        m_held_dofs.push_back(3 * n + a);
+      }
+  if (!m_held_dofs.empty()) {
+    const std::vector<int>& starts = m_assembly.column_starts();
+    const std::vector<int>& rows = m_assembly.row_indices();
+    for (int c = 0; c < num_dofs(); ++c)
+      for (int k = starts[std::size_t(c)]; k < starts[std::size_t(c) + 1]; ++k) {
+        const int r = rows[std::size_t(k)];
+        if (r == c && held[std::size_t(c)]) m_held_diagonal.push_back(k);
+        else if (held[std::size_t(r)] || held[std::size_t(c)]) m_held_coupling.push_back(k);
+      }
+  }
+}
+
+void ShellModel::zero_held(Eigen::VectorXd& free) const {
+  for (int d : m_held_dofs) free[d] = 0;
+}
+
+void ShellModel::hold_in_hessian(std::vector<double>& values) const {
+  for (long k : m_held_coupling) values[std::size_t(k)] = 0;
+  // The diagonal keeps its value (the scale of its neighbours'), so the decoupled row neither
+  // spoils the factor's conditioning nor the shift a Newton step may add.
+  for (long k : m_held_diagonal)
+    if (!(values[std::size_t(k)] > 0)) values[std::size_t(k)] = 1;
 }
 
 Eigen::Matrix3d ShellModel::bending_part_constitutive(FillPart part, int face) const {

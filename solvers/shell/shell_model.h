@@ -155,8 +155,19 @@ class ShellModel {
   const std::vector<int>& vertex_node() const { return m_vertex_node; }
   /// #nodes: vertex of each node.
   const std::vector<int>& node_vertex() const { return m_node_vertex; }
-  /// #V: true where the vertex is fixed (pinned or clamped).
+  /// #V: true where the vertex is fixed (pinned or clamped, or held along all three axes).
   const std::vector<bool>& fixed() const { return m_fixed; }
+  /// Free DOFs held at rest by supports along some axes only (LoadCase::held_axes), ascending. Such a
+  /// vertex is a node; its held DOFs stay in the system decoupled: assemble_shell zeroes their
+  /// gradient entries and their Hessian rows and columns but the diagonal (hold_in_hessian), and
+  /// every right-hand side (loads, adjoint) is zeroed there (zero_held), so Newton steps and adjoint
+  /// solutions are zero along them — the exact constraint, as elimination would give.
+  const std::vector<int>& held_dofs() const { return m_held_dofs; }
+  /// Zeroes the held DOFs of a free-DOF vector (a force, a residual, an adjoint right-hand side).
+  void zero_held(Eigen::VectorXd& free) const;
+  /// Decouples the held DOFs in Hessian values of assembly(): rows and columns zero, the diagonal
+  /// kept (1 where it is not positive).
+  void hold_in_hessian(std::vector<double>& values) const;
 
   /// Rest positions X (#V×3, m).
   const RowMatX3d& rest_positions() const { return m_mesh->vertices(); }
@@ -230,6 +241,8 @@ class ShellModel {
   std::array<Eigen::Matrix3d, 3> m_bending_constitutive;  ///< by FillPart
   LoadCase m_load_case;
   std::vector<bool> m_fixed;
+  std::vector<int> m_held_dofs;
+  std::vector<long> m_held_diagonal, m_held_coupling;  ///< value slots of assembly() (hold_in_hessian)
   std::vector<int> m_vertex_node;
   std::vector<int> m_node_vertex;
   double m_model_size = 0;

@@ -264,6 +264,48 @@ TEST(Scene, SelectorsAndLoadsResolve) {
   EXPECT_NEAR(total[1], 0.0, 1e-12);
 }
 
+// A pinned support along some axes ("axes": "xz"): the vertices it selects are held along those
+// global axes only (LoadCase::held_axes, the union over supports), the scene writes it back, and a
+// wrong axis name or a clamp with axes is refused on one line naming the key.
+TEST(Scene, ASupportAlongSomeAxes) {
+  json d = json::parse(R"({
+    "mesh": {"generator": "sheet", "edge_length": 0.1, "sim_edge_length": 0.1},
+    "supports": [{"type": "clamped", "select": {"entity": "vertices", "x": {"below": -0.4999999}}},
+                 {"type": "pinned", "axes": "xz", "select": {"entity": "vertices", "x": {"above": 0.4999999}}},
+                 {"type": "pinned", "axes": "y", "select": {"entity": "vertices", "y": {"above": 0.4999999}}}],
+    "loads": [{"type": "self_weight"}]})");
+  const Scene s = parse_scene(d, "test.json");
+  ASSERT_EQ(s.supports.size(), 3u);
+  EXPECT_EQ(s.supports[0].axes, kHeldAll);
+  EXPECT_EQ(s.supports[1].axes, kHeldX | kHeldZ);
+  EXPECT_EQ(scene_to_json(s)["supports"][1]["axes"], "xz");
+  EXPECT_FALSE(scene_to_json(s)["supports"][0].contains("axes"));
+  EXPECT_EQ(scene_to_json(parse_scene(scene_to_json(s), "again")), scene_to_json(s));
+  const SceneMeshes m = build_scene_meshes(s);
+  const LoadCase lc = resolve_load_case(s, m.sim);
+  ASSERT_EQ(int(lc.held_axes.size()), m.sim.num_vertices());
+  int corner = 0;
+  for (int v = 0; v < m.sim.num_vertices(); ++v) {
+    const double x = m.sim.vertices()(v, 0), y = m.sim.vertices()(v, 1);
+    const std::uint8_t expected = (x > 0.4999999 ? kHeldX | kHeldZ : 0) | (y > 0.4999999 ? kHeldY : 0);
+    EXPECT_EQ(lc.held_axes[std::size_t(v)], expected) << v;
+    EXPECT_EQ(lc.fixed[std::size_t(v)], x < -0.4999999) << v;
+    corner += expected == kHeldAll;
+  }
+  EXPECT_EQ(corner, 1) << "the corner (0.5, 0.5) is held along all three: x and z by one support, y by the other";
+
+  json bad = d;
+  bad["supports"][1]["axes"] = "xw";
+  expect_rejected(bad, {"/supports/1/axes", "x, y, z"});
+  bad["supports"][1]["axes"] = "xx";
+  expect_rejected(bad, {"/supports/1/axes", "at most once"});
+  bad["supports"][1]["axes"] = "";
+  expect_rejected(bad, {"/supports/1/axes"});
+  bad = d;
+  bad["supports"][0]["axes"] = "z";
+  expect_rejected(bad, {"/supports/0/axes", "clamp"});
+}
+
 TEST(Scene, SelectingNothingIsAnError) {
   json d = minimal_scene();
   d["supports"] = json::array({{{"select", {{"entity", "vertices"}, {"z", {{"above", 5}}}}}}});

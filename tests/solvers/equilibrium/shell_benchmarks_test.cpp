@@ -1,0 +1,460 @@
+// Curved shells against the references other shell codes are measured on (MacNeal & Harder 1985,
+// "A proposed standard set of problems to test finite element accuracy"; Belytschko et al. 1985,
+// "Stress projection for membrane and shear locking in shell finite elements") and against
+// Timoshenko's membrane solution of a sphere under pressure. The plate tests
+// (plate_theory_test.cpp) check bending and the membrane apart; these check them coupled on curved
+// surfaces, where a faceted shell of flat membranes and a curvature element can lock or drift, and
+// which cutwork's verify cannot see (its conforming reference runs the same element).
+//
+// Each problem is the whole structure (no symmetry planes: a Kirchhoff shell of vertex DOFs has no
+// rotation to hold on one), supported as the benchmark says with supports along some axes
+// (LoadCase::held_axes: a rigid diaphragm holds the two axes in its plane and lets the shell slide
+// along the third), and its rigid motions stopped by points whose held components vanish by
+// symmetry. Loads are scaled down to the linear regime (displacements ~1e-6 of the size) and the
+// answer scaled back, as the references are linear.
+//
+// Meshes: a grid over the surface's parameters, cut into triangles by shifted rows (near-equilateral,
+// every inner vertex of valence 6: what cutwork's generators and remeshing make) or along one
+// diagonal; on a "union jack" grid (alternating diagonals, valences 4 and 8) the shape-operator
+// element converges to a curved shell that is too soft (the last test, docs/DESIGN.md "Shell
+// mechanics"). CUTWORK_SHELL_BENCHMARK_TABLE=1 adds a finer mesh to each table (minutes) and
+// CUTWORK_SHELL_BENCHMARK_PATTERN (shifted, diagonal, union_jack) picks the pattern of the tables.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "solvers/equilibrium/equilibrium_solver.h"
+
+namespace cutwork::solvers {
+namespace {
+
+using std::numbers::pi;
+
+bool full_table() { return std::getenv("CUTWORK_SHELL_BENCHMARK_TABLE") != nullptr; }
+
+Material benchmark_material(double E, double nu, double t) {
+  Material m;
+  m.youngs_modulus = E;
+  m.poisson_ratio = nu;
+  m.thickness = t;
+  m.density = 0;
+  return m;
+}
+
+SurfaceMesh mesh_of(const std::vector<Vec3>& verts, const std::vector<Eigen::Vector3i>& faces, const char* name) {
+  RowMatX3d V(verts.size(), 3);
+  for (std::size_t v = 0; v < verts.size(); ++v) V.row(Eigen::Index(v)) = verts[v].transpose();
+  RowMatX3i F(faces.size(), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) F.row(Eigen::Index(f)) = faces[f].transpose();
+  return SurfaceMesh(V, F, name);
+}
+
+/// How a grid of quads is cut into triangles.
+enum class Pattern {
+  Shifted,    ///< odd rows shifted by half a column: near-equilateral, valence 6 (cutwork's own meshes)
+  Diagonal,   ///< every quad along the same diagonal
+  UnionJack,  ///< alternating diagonals: valence 4 and 8
+};
+
+Pattern pattern_from_env(Pattern fallback) {
+  const char* p = std::getenv("CUTWORK_SHELL_BENCHMARK_PATTERN");
+  if (!p) return fallback;
+  const std::string s = p;
+  return s == "diagonal" ? Pattern::Diagonal : s == "union_jack" ? Pattern::UnionJack : Pattern::Shifted;
+}
+
+/// A grid over parameters (u, v) ∈ [0, nu] × [0, nv] (periodic in u when `closed`), mapped by
+/// p(u, v), cut into triangles by `pattern`. Shifted rows place odd rows' points at u + ½ (and,
+/// when open, at both ends), so the triangles between rows are near-equilateral where the map is.
+template <typename Point>
+SurfaceMesh grid_mesh(int nu, int nv, bool closed, Point&& p, const char* name, Pattern pattern = Pattern::Shifted) {
+  std::vector<Vec3> verts;
+  std::vector<std::vector<std::pair<double, int>>> rows(std::size_t(nv) + 1);  // (u, vertex) by row
+  for (int j = 0; j <= nv; ++j) {
+    std::vector<double> us;
+    const bool shift = pattern == Pattern::Shifted && j % 2 == 1;
+    if (shift && !closed) us.push_back(0);
+    for (int i = 0; i < (closed ? nu : nu + (shift ? 0 : 1)); ++i) us.push_back(i + (shift ? 0.5 : 0.0));
+    if (shift && !closed) us.push_back(nu);
+    for (double u : us) {
+      rows[std::size_t(j)].emplace_back(u, int(verts.size()));
+      verts.push_back(p(u, double(j)));
+    }
+  }
+  std::vector<Eigen::Vector3i> faces;
+  for (int j = 0; j < nv; ++j) {
+    auto A = rows[std::size_t(j)], B = rows[std::size_t(j) + 1];
+    if (closed) {  // the first point again, one period on
+      A.emplace_back(A.front().first + nu, A.front().second);
+      B.emplace_back(B.front().first + nu, B.front().second);
+    }
+    if (pattern != Pattern::Shifted) {
+      for (std::size_t i = 0; i + 1 < A.size(); ++i) {
+        const int a = A[i].second, b = A[i + 1].second, c = B[i + 1].second, d = B[i].second;
+        if (pattern == Pattern::Diagonal || (int(i) + j) % 2 == 0) {
+          faces.emplace_back(a, b, c);
+          faces.emplace_back(a, c, d);
+        } else {
+          faces.emplace_back(a, b, d);
+          faces.emplace_back(b, c, d);
+        }
+      }
+      continue;
+    }
+    // Sweep both rows by u: advance the one whose next point comes first.
+    std::size_t i = 0, k = 0;
+    while (i + 1 < A.size() || k + 1 < B.size()) {
+      const bool bottom = k + 1 >= B.size() || (i + 1 < A.size() && A[i + 1].first <= B[k + 1].first + 1e-12);
+      if (bottom) {
+        faces.emplace_back(A[i].second, A[i + 1].second, B[k].second);
+        ++i;
+      } else {
+        faces.emplace_back(A[i].second, B[k + 1].second, B[k].second);
+        ++k;
+      }
+    }
+  }
+  return mesh_of(verts, faces, name);
+}
+
+/// The unit square in z = 0, 16 × 16 shifted rows.
+SurfaceMesh test_plate_mesh() {
+  return grid_mesh(16, 16, false, [](double i, double j) { return Vec3(i / 16, j / 16, 0); }, "plate");
+}
+
+/// Linear displacements (#V×3) of `mesh` under `forces` × `scale`, divided by `scale`.
+RowMatX3d linear_displacements(const SurfaceMesh& mesh, const Material& material, LoadCase lc, double scale) {
+  lc.forces *= scale;
+  const ShellModel model(mesh, material, lc);
+  EquilibriumSolver solver(model);
+  solver.solve(Eigen::VectorXd::Ones(mesh.num_faces()));
+  return solver.displacements() / scale;
+}
+
+int nearest_vertex(const SurfaceMesh& mesh, const Vec3& p) {
+  int best = 0;
+  for (int v = 1; v < mesh.num_vertices(); ++v)
+    if ((mesh.vertices().row(v).transpose() - p).squaredNorm() < (mesh.vertices().row(best).transpose() - p).squaredNorm())
+      best = v;
+  EXPECT_LT((mesh.vertices().row(best).transpose() - p).norm(), 1e-9 * (1 + p.norm())) << "no vertex at the point";
+  return best;
+}
+
+/// Consistent nodal forces of a uniform traction q (per area) over every face.
+RowMatX3d traction_forces(const SurfaceMesh& mesh, const Vec3& q) {
+  RowMatX3d f = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  for (int t = 0; t < mesh.num_faces(); ++t)
+    for (int k = 0; k < 3; ++k) f.row(mesh.faces()(t, k)) += (mesh.face_areas()[t] / 3.0 * q).transpose();
+  return f;
+}
+
+struct Row {
+  int faces = 0;
+  double value = 0;
+};
+
+/// Prints the table and checks that the error against `reference` ends within `tolerance` and
+/// that it has fallen below `fraction` of the largest on the coarser meshes.
+void expect_converges_to(const std::string& what, const std::vector<Row>& rows, double reference, double tolerance,
+                         double fraction) {
+  std::string table = what + fmt::format(" (reference {:.5g})\n", reference);
+  for (const Row& r : rows)
+    table += fmt::format("  {:7d} triangles  {:.5g}  {:+.2f}%\n", r.faces, r.value, 100 * (r.value / reference - 1));
+  std::printf("%s", table.c_str());
+  double largest = 0;
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k) largest = std::max(largest, std::abs(rows[k].value / reference - 1));
+  const double last = std::abs(rows.back().value / reference - 1);
+  EXPECT_LE(last, tolerance) << table;
+  EXPECT_LE(last, fraction * largest) << table;
+}
+
+// ---- supports along some axes --------------------------------------------------------------------
+
+// A flat plate's bending does not couple to its membrane in the linear regime, so a square plate
+// simply supported by its boundary held along z alone (two corners stop the in-plane rigid
+// motions) deflects as the one whose boundary is pinned: what a support along some axes must do.
+// Its held components stay exactly at rest; the in-plane ones of the boundary move (nonlinear,
+// second order in the load).
+TEST(ShellBenchmarks, AnEdgeHeldAlongZDeflectsAsAPinnedOne) {
+  const SurfaceMesh mesh = test_plate_mesh();
+  LoadCase pinned;
+  pinned.fixed = mesh.is_boundary_vertex();
+  pinned.forces = traction_forces(mesh, Vec3(0, 0, -1e3));
+  LoadCase held = pinned;
+  held.fixed.assign(std::size_t(mesh.num_vertices()), false);
+  held.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (mesh.is_boundary_vertex()[std::size_t(v)]) held.held_axes[std::size_t(v)] = kHeldZ;
+  held.held_axes[std::size_t(nearest_vertex(mesh, Vec3(0, 0, 0)))] = kHeldAll;
+  held.held_axes[std::size_t(nearest_vertex(mesh, Vec3(1, 0, 0)))] = kHeldY | kHeldZ;
+  const Material m = benchmark_material(1e9, 0.3, 0.01);
+  const RowMatX3d a = linear_displacements(mesh, m, pinned, 1e-6), b = linear_displacements(mesh, m, held, 1e-6);
+  EXPECT_LT((a.col(2) - b.col(2)).lpNorm<Eigen::Infinity>(), 1e-6 * a.col(2).lpNorm<Eigen::Infinity>());
+  double in_plane = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (mesh.is_boundary_vertex()[std::size_t(v)]) {
+      EXPECT_EQ(b(v, 2), 0.0) << "vertex " << v;
+      in_plane = std::max(in_plane, b.row(v).head<2>().norm());
+    }
+  EXPECT_GT(in_plane, 0) << "the held edge slides in its plane";
+}
+
+// ---- Scordelis–Lo roof ---------------------------------------------------------------------------
+
+// A cylindrical roof (R 25, L 50, 80° of arc, t 0.25, E 4.32e8, ν 0) under its own weight, 90 per
+// area, on rigid diaphragms at its ends (u_x = u_z = 0, free to slide along the axis), its long
+// edges free: the vertical displacement at the middle of a free edge. References: 0.3024
+// (MacNeal & Harder), 0.3006 (the deep-shell value thin-shell formulations converge to; the
+// difference is the shallow-shell and transverse-shear parts of the older reference). Membrane and
+// bending both carry it.
+double scordelis_lo(int n, Pattern pattern, int subdivisions, int* faces) {
+  const double R = 25, L = 50, half = 40 * pi / 180;
+  SurfaceMesh mesh = grid_mesh(2 * n, 2 * n, false, [&](double i, double j) {
+    const double theta = -half + 2 * half * i / (2 * n), y = -L / 2 + L * j / (2 * n);
+    return Vec3(R * std::sin(theta), y, R * std::cos(theta));
+  }, "Scordelis-Lo roof", pattern);
+  for (int k = 0; k < subdivisions; ++k) mesh = midpoint_subdivision(mesh);
+  *faces = mesh.num_faces();
+  LoadCase lc;
+  lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (std::abs(std::abs(mesh.vertices()(v, 1)) - L / 2) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+  // The axial translation: u_y is odd in y, zero across the middle.
+  lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(0, 0, R)))] = kHeldY;
+  lc.forces = traction_forces(mesh, Vec3(0, 0, -90));
+  const RowMatX3d u = linear_displacements(mesh, benchmark_material(4.32e8, 0, 0.25), lc, 1e-5);
+  const int edge = nearest_vertex(mesh, Vec3(R * std::sin(half), 0, R * std::cos(half)));
+  const int other = nearest_vertex(mesh, Vec3(-R * std::sin(half), 0, R * std::cos(half)));
+  // Shifted rows are swept in one direction, so the mesh is not quite mirror-symmetric: the two
+  // edges differ by 1.1%, 0.15%, 0.02% on the 528, 2080, 8256-triangle meshes (their mean is read).
+  EXPECT_NEAR(u(edge, 2), u(other, 2), 0.02 * std::abs(u(edge, 2))) << "the roof's symmetry";
+  return -0.5 * (u(edge, 2) + u(other, 2));
+}
+
+TEST(ShellBenchmarks, ScordelisLoRoof) {
+  std::vector<Row> rows;
+  std::vector<int> sizes = {4, 8, 16, 32};
+  if (full_table()) sizes.push_back(64);
+  for (int n : sizes) {
+    Row r;
+    r.value = scordelis_lo(n, pattern_from_env(Pattern::Shifted), 0, &r.faces);
+    rows.push_back(r);
+  }
+  expect_converges_to("Scordelis-Lo roof, free edge's vertical displacement at mid-span", rows, 0.3006, 0.015, 0.25);
+}
+
+// ---- pinched hemisphere --------------------------------------------------------------------------
+
+// A hemisphere (R 10, t 0.04, E 6.825e7, ν 0.3) with an 18° hole at its pole, pinched at its free
+// equator by four radial forces of 2, in at ±x and out at ±y: the displacement along the force
+// under it. Almost inextensional bending; membrane locking makes flat elements too stiff here.
+// References: 0.094 (MacNeal & Harder), 0.0924 (the thin-shell converged value). Held by symmetry:
+// u_y at azimuths 0° and 180°, u_x at 90° and 270°, u_z at 45°, 135°, 225° (the loads are even
+// under x → −x and odd under the quarter turn, so u_z vanishes on the 45° meridians).
+double pinched_hemisphere(int n, Pattern pattern, int* faces) {
+  const double R = 10, hole = 18 * pi / 180;
+  const int around = 8 * n, down = 2 * int(std::lround(n * (pi / 2 - hole) / (pi / 4)));  // even: the equator unshifted
+  const SurfaceMesh mesh = grid_mesh(around, down, true, [&](double i, double j) {
+    const double psi = 2 * pi * i / around, phi = hole + (pi / 2 - hole) * j / down;
+    return Vec3(R * std::sin(phi) * std::cos(psi), R * std::sin(phi) * std::sin(psi), R * std::cos(phi));
+  }, "pinched hemisphere", pattern);
+  *faces = mesh.num_faces();
+  LoadCase lc;
+  lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+  auto at = [&](double degrees) {
+    return nearest_vertex(mesh, R * Vec3(std::cos(degrees * pi / 180), std::sin(degrees * pi / 180), 0));
+  };
+  lc.held_axes[std::size_t(at(0))] = lc.held_axes[std::size_t(at(180))] = kHeldY;
+  lc.held_axes[std::size_t(at(90))] = lc.held_axes[std::size_t(at(270))] = kHeldX;
+  for (double d : {45.0, 135.0, 225.0}) lc.held_axes[std::size_t(at(d))] = kHeldZ;
+  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  lc.forces.row(at(0)) = Vec3(-2, 0, 0).transpose();
+  lc.forces.row(at(180)) = Vec3(2, 0, 0).transpose();
+  lc.forces.row(at(90)) = Vec3(0, 2, 0).transpose();
+  lc.forces.row(at(270)) = Vec3(0, -2, 0).transpose();
+  const RowMatX3d u = linear_displacements(mesh, benchmark_material(6.825e7, 0.3, 0.04), lc, 1e-5);
+  EXPECT_NEAR(-u(at(0), 0), u(at(90), 1), 1e-6 * std::abs(u(at(0), 0))) << "in at ±x as much as out at ±y";
+  return -u(at(0), 0);
+}
+
+TEST(ShellBenchmarks, PinchedHemisphere) {
+  std::vector<Row> rows;
+  std::vector<int> sizes = {2, 4, 8, 16};
+  if (full_table()) sizes.push_back(32);
+  for (int n : sizes) {
+    Row r;
+    r.value = pinched_hemisphere(n, pattern_from_env(Pattern::Shifted), &r.faces);
+    rows.push_back(r);
+  }
+  expect_converges_to("pinched hemisphere, displacement under a force", rows, 0.0924, 0.015, 0.25);
+}
+
+// ---- pinched cylinder ----------------------------------------------------------------------------
+
+// A cylinder (R 300, L 600, t 3, E 3e6, ν 0.3) on rigid diaphragms at its ends, pinched at
+// mid-length by two forces of 1 pressing its top and bottom together: the radial displacement under
+// a force. Reference 1.8248e-5 (the one every code of the benchmark set quotes). Bending and
+// membrane action couple strongly near the loads; elements converge slowly on it.
+double pinched_cylinder(int n, Pattern pattern, int* faces) {
+  const double R = 300, L = 600;
+  const int around = 8 * n, along = 4 * n;
+  const SurfaceMesh mesh = grid_mesh(around, along, true, [&](double i, double j) {
+    const double theta = 2 * pi * i / around, y = -L / 2 + L * j / along;
+    return Vec3(R * std::sin(theta), y, R * std::cos(theta));
+  }, "pinched cylinder", pattern);
+  *faces = mesh.num_faces();
+  LoadCase lc;
+  lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (std::abs(std::abs(mesh.vertices()(v, 1)) - L / 2) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+  lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(R, 0, 0)))] = kHeldY;  // u_y is odd in y
+  const int top = nearest_vertex(mesh, Vec3(0, 0, R)), bottom = nearest_vertex(mesh, Vec3(0, 0, -R));
+  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  lc.forces(top, 2) = -1;
+  lc.forces(bottom, 2) = 1;
+  const RowMatX3d u = linear_displacements(mesh, benchmark_material(3e6, 0.3, 3), lc, 1e-3);
+  EXPECT_NEAR(-u(top, 2), u(bottom, 2), 1e-4 * std::abs(u(top, 2)));
+  return 0.5 * (u(bottom, 2) - u(top, 2));
+}
+
+TEST(ShellBenchmarks, PinchedCylinder) {
+  std::vector<Row> rows;
+  std::vector<int> sizes = {4, 8, 16, 32};
+  if (full_table()) sizes.push_back(64);
+  for (int n : sizes) {
+    Row r;
+    r.value = pinched_cylinder(n, pattern_from_env(Pattern::Shifted), &r.faces);
+    rows.push_back(r);
+  }
+  expect_converges_to("pinched cylinder, displacement under a force", rows, 1.8248e-5, 0.03, 0.25);
+}
+
+// ---- a pinched ring (curved bending alone) -----------------------------------------------------
+
+// A short cylinder (R 1, width b 0.2, t 0.01, ν 0: no anticlastic coupling, so the ring's bending
+// stiffness is E I with I = b t³/12 whatever its width) pressed along its top and bottom generators
+// by a total force P each: the diameter shortens by (π/4 − 2/π) P R³/(E I) (a thin ring under
+// diametral forces; the hoop membrane's share is (t/R)² smaller).
+TEST(ShellBenchmarks, PinchedRingBendsAsTheRingFormulaSays) {
+  const double R = 1, b = 0.2, t = 0.01, E = 1e9, P = 1;
+  const double exact = (pi / 4 - 2 / pi) * P * R * R * R / (E * b * t * t * t / 12);
+  std::vector<Row> rows;
+  for (int n : {4, 8, 16, 32}) {
+    const int around = 8 * n, along = std::max(4, int(std::lround(around * b / (2 * pi * R))) / 4 * 4);
+    const SurfaceMesh mesh = grid_mesh(around, along, true, [&](double i, double j) {
+      const double theta = 2 * pi * i / around, y = -b / 2 + b * j / along;
+      return Vec3(R * std::sin(theta), y, R * std::cos(theta));
+    }, "ring", pattern_from_env(Pattern::Shifted));
+    LoadCase lc;
+    lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+    lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(0, 0, R)))] = kHeldX | kHeldY;
+    lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(0, 0, -R)))] = kHeldX | kHeldY;
+    lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(R, 0, 0)))] = kHeldY | kHeldZ;
+    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+    // The line load along each generator, lumped by the trapezoidal rule over its vertices.
+    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+    for (const double side : {1.0, -1.0}) {
+      std::vector<std::pair<double, int>> line;
+      for (int v = 0; v < mesh.num_vertices(); ++v)
+        if (std::abs(mesh.vertices()(v, 0)) < 1e-9 && side * mesh.vertices()(v, 2) > 0)
+          line.emplace_back(mesh.vertices()(v, 1), v);
+      std::sort(line.begin(), line.end());
+      for (std::size_t k = 0; k < line.size(); ++k) {
+        const double lo = k == 0 ? line[k].first : 0.5 * (line[k - 1].first + line[k].first);
+        const double hi = k + 1 == line.size() ? line[k].first : 0.5 * (line[k].first + line[k + 1].first);
+        lc.forces(line[k].second, 2) = -side * P * (hi - lo) / b;
+      }
+    }
+    const RowMatX3d u = linear_displacements(mesh, benchmark_material(E, 0, t), lc, 1e-3);
+    const int top = nearest_vertex(mesh, Vec3(0, 0, R)), bottom = nearest_vertex(mesh, Vec3(0, 0, -R));
+    rows.push_back({mesh.num_faces(), u(bottom, 2) - u(top, 2)});
+  }
+  expect_converges_to("pinched ring, shortening of the loaded diameter", rows, exact, 0.005, 0.25);
+}
+
+// ---- a sphere under pressure (Timoshenko) --------------------------------------------------------
+
+// A closed sphere (R 1, t 0.01, E 1e9, ν 0.3) under internal pressure p is in a pure membrane state:
+// u_r = p R² (1 − ν) / (2 E t) everywhere (the membrane theory of shells of revolution,
+// Timoshenko & Woinowsky-Krieger ch. 14). The faceted sphere (an octahedron divided and projected) carries it in
+// its flat membranes and its creases; held tangentially at ±x, and at +y along z.
+TEST(ShellBenchmarks, SphereUnderPressureIsInItsMembraneState) {
+  const double R = 1, p = 1e3, E = 1e9, nu = 0.3, t = 0.01;
+  const double exact = p * R * R * (1 - nu) / (2 * E * t);
+  std::vector<Row> rows;
+  for (int level : {2, 3, 4, 5}) {
+    std::vector<Vec3> verts = {Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()};
+    std::vector<Eigen::Vector3i> faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                          {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    for (int k = 0; k < level; ++k) {
+      std::map<std::pair<int, int>, int> mid;
+      auto middle = [&](int a, int b) {
+        const auto key = std::minmax(a, b);
+        const auto it = mid.find(key);
+        if (it != mid.end()) return it->second;
+        verts.push_back((verts[std::size_t(a)] + verts[std::size_t(b)]).normalized());
+        return mid[key] = int(verts.size()) - 1;
+      };
+      std::vector<Eigen::Vector3i> finer;
+      for (const Eigen::Vector3i& f : faces) {
+        const int ab = middle(f[0], f[1]), bc = middle(f[1], f[2]), ca = middle(f[2], f[0]);
+        finer.emplace_back(f[0], ab, ca);
+        finer.emplace_back(ab, f[1], bc);
+        finer.emplace_back(ca, bc, f[2]);
+        finer.emplace_back(ab, bc, ca);
+      }
+      faces = finer;
+    }
+    for (Vec3& v : verts) v *= R;
+    const SurfaceMesh mesh = mesh_of(verts, faces, "sphere");
+    LoadCase lc;
+    lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+    lc.held_axes[0] = lc.held_axes[1] = kHeldY | kHeldZ;
+    lc.held_axes[2] = kHeldX | kHeldZ;
+    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const Vec3 n = mesh.face_normals().row(f).transpose();
+      for (int k = 0; k < 3; ++k) lc.forces.row(mesh.faces()(f, k)) += (p * mesh.face_areas()[f] / 3 * n).transpose();
+    }
+    const RowMatX3d u = linear_displacements(mesh, benchmark_material(E, nu, t), lc, 1e-3);
+    // The mean radial displacement (the vertices of a faceted sphere are not all alike).
+    double radial = 0;
+    for (int v = 0; v < mesh.num_vertices(); ++v) radial += u.row(v).dot(mesh.vertices().row(v).normalized());
+    rows.push_back({mesh.num_faces(), radial / mesh.num_vertices()});
+  }
+  expect_converges_to("sphere under pressure, mean radial displacement", rows, exact, 0.005, 0.25);
+}
+
+// ---- what the element gets wrong: union-jack meshes ---------------------------------------------
+
+// On a grid cut along alternating diagonals (valences 4 and 8) the shape-operator element
+// converges to a curved shell that is too soft: the Scordelis-Lo roof +1.1%, +12.9%, +16.5% on
+// 512, 2048, 8192 triangles (a pinched ring +47%, the pinched cylinder +33%, the hemisphere +6%),
+// where on shifted rows and on one diagonal it converges to the references. A flat plate is not
+// affected (plate_theory_test.cpp's meshes include right-triangle grids). Midpoint subdivision
+// adds vertices of valence 6 and leaves the others a quarter as many each time, so the error falls
+// about 4× per division: a union-jack mesh file is simulated right once divided (mesh.sim_subdivisions,
+// which "auto" chooses by the uncut shell's convergence). Asserted: the base mesh at least 5% too
+// soft (a fix of the element fails this: then say so in docs/DESIGN.md), and twice divided within 2%.
+TEST(ShellBenchmarks, AUnionJackMeshOfACurvedShellIsTooSoftUntilDivided) {
+  std::vector<Row> rows;
+  for (int k : {0, 1, 2}) {
+    Row r;
+    r.value = scordelis_lo(16, Pattern::UnionJack, k, &r.faces);
+    rows.push_back(r);
+  }
+  const double base = rows[0].value / 0.3006 - 1;
+  EXPECT_GT(base, 0.05);
+  expect_converges_to("Scordelis-Lo roof on a union-jack grid of 2048 triangles, divided 0, 1, 2 times", rows, 0.3006,
+                      0.02, 0.25);
+}
+
+}  // namespace
+}  // namespace cutwork::solvers
