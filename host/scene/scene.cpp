@@ -10,6 +10,7 @@
 #include "host/core/work_limits.h"
 #include "host/core/json_io.h"
 #include "host/mesh/mesh_io.h"
+#include "host/mesh/union_jack_flips.h"
 #include "host/pattern/exemplar.h"
 #include "host/scene/json_reader.h"
 #include "host/scene/load_regions.h"
@@ -704,8 +705,12 @@ SceneMeshes build_scene_meshes(const Scene& scene) {
     out.base = read_mesh(scene.mesh.file);
     if (scene.mesh.unit != 1.0)
       out.base = SurfaceMesh(out.base.vertices() * scene.mesh.unit, out.base.faces(), scene.mesh.file.string());
-    out.sim = out.base;
-    out.sim_is_base = true;
+    // Union-jack patches (a CAD surface's quads split both ways) turned one way for the simulation:
+    // the bending element reads them 16-73% too soft (host/mesh/union_jack_flips.h).
+    UnionJackFlips flipped = flip_union_jack_diagonals(out.base);
+    out.sim_flips = flipped.flips;
+    out.sim = std::move(flipped.mesh);
+    out.sim_is_base = out.sim_flips == 0;
     out.sim_choice_pending = scene.mesh.sim_subdivisions == kAutoSubdivisions;
     if (scene.mesh.sim_subdivisions > 0) {
       try {
@@ -725,12 +730,20 @@ void use_subdivided_simulation_mesh(SceneMeshes& meshes, int subdivisions) {
   if (faces > double(work_limits().max_faces))
     throw InputError(fmt::format("{} subdivisions of {} triangles make {:.0f}, over the limit of {} (--max-faces)",
                                  subdivisions, meshes.base.num_faces(), faces, work_limits().max_faces));
-  SurfaceMesh sim = meshes.base;
+  SurfaceMesh sim = meshes.sim_flips > 0 ? flip_union_jack_diagonals(meshes.base).mesh : meshes.base;
   for (int k = 0; k < subdivisions; ++k) sim = midpoint_subdivision(sim);
   meshes.sim = std::move(sim);
-  meshes.sim_is_base = subdivisions == 0;
+  meshes.sim_is_base = subdivisions == 0 && meshes.sim_flips == 0;
   meshes.sim_subdivisions = subdivisions;
   meshes.map = map_meshes(meshes.base, meshes.sim);
+}
+
+std::string union_jack_note(const SceneMeshes& meshes) {
+  if (meshes.sim_flips == 0) return {};
+  return fmt::format("the file's mesh has union-jack patches (quads split along alternating diagonals), which the "
+                     "shape-operator bending reads too soft (a flat plate 73%): {} of their diagonals are turned one "
+                     "way in the simulation mesh (the base mesh, cut and exported, keeps them)",
+                     meshes.sim_flips);
 }
 
 namespace {

@@ -230,13 +230,19 @@ struct SceneMeshes {
   bool sim_choice_pending = false;
   /// What that choice found (report.json mesh.sim_choice); null where nothing was chosen.
   nlohmann::json sim_choice;
+  /// A file's mesh: diagonals of union-jack patches turned one way in `sim` (before it is divided;
+  /// host/mesh/union_jack_flips.h), so the bending element does not read them too soft.
+  int sim_flips = 0;
 };
+/// The run's note on a file's union-jack diagonals flipped for the simulation ("" when none).
+std::string union_jack_note(const SceneMeshes& meshes);
 /// The scene's meshes. A file's mesh with sim_subdivisions "auto" comes back with sim the file's
 /// mesh and sim_choice_pending set (the choice needs the mechanics: solvers::choose_simulation_mesh).
 SceneMeshes build_scene_meshes(const Scene& scene);
 
-/// Makes `mesh` divided `subdivisions` times (midpoint) the simulation mesh of `meshes`, whose base
-/// it must be, with the map between them. Throws InputError when it would exceed the work limit.
+/// Makes the base mesh of `meshes` (a file's), its union-jack diagonals flipped where
+/// meshes.sim_flips says so, divided `subdivisions` times (midpoint) the simulation mesh, with the
+/// map between them. Throws InputError when it would exceed the work limit.
 void use_subdivided_simulation_mesh(SceneMeshes& meshes, int subdivisions);
 
 /// Resolves supports and loads onto `mesh` (normally the simulation mesh).

@@ -68,6 +68,7 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                {"sim_triangles", meshes.sim.num_faces()},
                {"sim_is_base", meshes.sim_is_base},
                {"sim_subdivisions", meshes.sim_subdivisions},
+               {"sim_union_jack_flips", meshes.sim_flips},
                {"map_max_distance", meshes.map.max_distance}};
   if (!meshes.sim_choice.is_null()) r["mesh"]["sim_choice"] = meshes.sim_choice;
   const MechanicsSettings mechanics = used ? *used : scene_mechanics(scene);

@@ -418,6 +418,55 @@ TEST(Scene, SimulationSubdivisionsOfAFile) {
   std::filesystem::remove_all(dir);
 }
 
+// A file cut along alternating diagonals (a union jack: a CAD surface's quads split both ways) is
+// simulated with those diagonals turned one way (host/mesh/union_jack_flips.h; the bending element
+// reads the pattern too soft), before it is divided; the base, cut and exported, keeps the file's.
+TEST(Scene, AUnionJackFileIsSimulatedWithItsDiagonalsTurnedOneWay) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cutwork-scene-union-jack";
+  std::filesystem::create_directories(dir);
+  const int n = 8;
+  RowMatX3d V((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) V.row(j * (n + 1) + i) << 0.1 * i, 0.1 * j, 0.0;
+  RowMatX3i F(2 * n * n, 3);
+  for (int j = 0, f = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, e = a + n + 1;
+      if ((i + j) % 2 == 0) {
+        F.row(f++) << a, b, c;
+        F.row(f++) << a, c, e;
+      } else {
+        F.row(f++) << a, b, e;
+        F.row(f++) << b, c, e;
+      }
+    }
+  write_obj(dir / "jack.obj", V, F);
+  nlohmann::json d = {{"name", "t"},
+                      {"mesh", {{"file", (dir / "jack.obj").string()}, {"sim_subdivisions", 0}}},
+                      {"supports", nlohmann::json::array({{{"type", "pinned"}, {"select", {{"entity", "boundary_vertices"}}}}})},
+                      {"loads", nlohmann::json::array({{{"type", "self_weight"}}})}};
+  const SceneMeshes m = build_scene_meshes(parse_scene(d, "test"));
+  EXPECT_EQ(m.sim_flips, 30);
+  EXPECT_FALSE(m.sim_is_base);
+  EXPECT_EQ(m.base.faces(), F);
+  EXPECT_EQ(m.sim.vertices(), V);
+  EXPECT_NE(m.sim.faces(), F);
+  EXPECT_EQ(m.map.max_distance, 0.0);
+  EXPECT_NE(union_jack_note(m).find("30 of their diagonals"), std::string::npos) << union_jack_note(m);
+  d["mesh"]["sim_subdivisions"] = 1;
+  const SceneMeshes once = build_scene_meshes(parse_scene(d, "test"));
+  EXPECT_EQ(once.sim.faces(), midpoint_subdivision(m.sim).faces());
+  EXPECT_FALSE(once.sim_is_base);
+  // A file without the pattern: nothing turned, no note.
+  write_obj(dir / "plain.obj", test::spherical_cap(3, 12).vertices(), test::spherical_cap(3, 12).faces());
+  d["mesh"] = {{"file", (dir / "plain.obj").string()}, {"sim_subdivisions", 0}};
+  const SceneMeshes plain = build_scene_meshes(parse_scene(d, "test"));
+  EXPECT_EQ(plain.sim_flips, 0);
+  EXPECT_TRUE(plain.sim_is_base);
+  EXPECT_EQ(union_jack_note(plain), "");
+  std::filesystem::remove_all(dir);
+}
+
 // A mesh file drawn in millimetres (what a part's STL usually is): mesh.unit scales it to metres;
 // given plainly, a model over 100 m across is read as it is, and the note says how to read it.
 TEST(Scene, AFileDrawnInMillimetres) {
