@@ -133,8 +133,13 @@ void add_check_command(CLI::App& app) {
                    "equilibrium when a run starts (mesh.sim_subdivisions auto)\n";
     else if (meshes.sim_is_base)
       std::cout << "simulation mesh: the base mesh\n";
+    else if (meshes.sim_subdivisions == 0)
+      print_mesh("simulation mesh (the base mesh, its union-jack diagonals turned one way)", meshes.sim);
     else
-      print_mesh(fmt::format("simulation mesh (the base mesh divided {} times)", meshes.sim_subdivisions), meshes.sim);
+      print_mesh(fmt::format("simulation mesh (the base mesh{} divided {} times)",
+                             meshes.sim_flips > 0 ? ", its union-jack diagonals turned one way," : "",
+                             meshes.sim_subdivisions),
+                 meshes.sim);
     int fixed = 0, clamped = 0, held = 0;
     for (size_t v = 0; v < lc.fixed.size(); ++v) {
       fixed += lc.fixed[v];

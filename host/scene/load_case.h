@@ -204,4 +204,12 @@ struct LoadCase {
   bool held_motion = false;
 };
 
+/// #V: vertices that a support holds along at least one axis (fixed, clamped, or `held_axes`).
+inline std::vector<bool> supported_vertices(const LoadCase& lc) {
+  std::vector<bool> out = lc.fixed;
+  for (std::size_t v = 0; v < out.size(); ++v)
+    out[v] = out[v] || (v < lc.clamped.size() && lc.clamped[v]) || (v < lc.held_axes.size() && lc.held_axes[v] != 0);
+  return out;
+}
+
 }  // namespace cutwork

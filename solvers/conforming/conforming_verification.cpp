@@ -180,15 +180,16 @@ void compare_energy_densities(const SurfaceMesh& sim, ConformingVerification& v)
 
 double ratio(double a, double b) { return b != 0 ? a / b : std::numeric_limits<double>::quiet_NaN(); }
 
-/// Removes the connected pieces of `mesh` without a fixed vertex in `lc`; true when it did (the
+/// Removes the connected pieces of `mesh` without a supported vertex in `lc` (held along any axis); true when it did (the
 /// caller resolves the load case again). Adds a note naming their count and area.
 bool drop_unsupported_pieces(SurfaceMesh& mesh, const LoadCase& lc, double L, std::vector<std::string>& notes) {
   if (mesh.num_components() < 2) return false;
   const std::vector<int> piece = face_components(mesh);
   std::vector<bool> supported(size_t(mesh.num_components()), false);
+  const std::vector<bool> held = supported_vertices(lc);  // along any axis
   for (int f = 0; f < mesh.num_faces(); ++f)
     for (int k = 0; k < 3; ++k)
-      if (lc.fixed[size_t(mesh.faces()(f, k))]) supported[size_t(piece[size_t(f)])] = true;
+      if (held[size_t(mesh.faces()(f, k))]) supported[size_t(piece[size_t(f)])] = true;
   int loose = 0, kept_faces = 0;
   double loose_area = 0;
   for (bool s : supported) loose += !s;
@@ -264,7 +265,7 @@ LevelSolve solve_conforming_level(SurfaceMesh& mesh, double L, const Scene& scen
     outer = boundary_vertices_on_boundary_of(mesh, meshes.base, snap);
     lc = resolve_load_case(scene, mesh, &outer, &load_case);
   }
-  q.fixed_extent = support_extent(mesh, lc.fixed, &outer);
+  q.fixed_extent = support_extent(mesh, supported_vertices(lc), &outer);
   q.clamped_extent = support_extent(mesh, lc.clamped, &outer);
   const ShellModel model(mesh, scene.material, lc, mechanics);
   RowMatX3d start;

@@ -131,7 +131,7 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
   e.support_tolerance = options.support_tolerance;
   {
     const LoadCase lc = resolve_load_case(scene, coarse_mesh);
-    e.levels.push_back({coarse_edge_length, coarse_mesh.num_faces(), coarse, support_extent(coarse_mesh, lc.fixed),
+    e.levels.push_back({coarse_edge_length, coarse_mesh.num_faces(), coarse, support_extent(coarse_mesh, supported_vertices(lc)),
                         support_extent(coarse_mesh, lc.clamped)});
   }
   e.support_change = 0;
@@ -163,7 +163,7 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     previous = &r->mesh;
     previous_u = solver.displacements();
     e.levels.push_back({r->edge_length, r->mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha),
-                        support_extent(r->mesh, lc.fixed), support_extent(r->mesh, lc.clamped),
+                        support_extent(r->mesh, supported_vertices(lc)), support_extent(r->mesh, lc.clamped),
                         stats.newton_iterations, stats.warm_started && !stats.cold_restarted});
     compliances.push_back(e.levels.back().quantities.compliance);
     e.support_change = std::max({e.support_change, support_extent_change(e.levels.front().fixed, e.levels.back().fixed, coarse_edge_length),

@@ -37,7 +37,7 @@
 ///  - two levels ("first order assumed"): |C_h − C∞| / |C∞| with C∞ = 2C_{h/2} − C_h, i.e.
 ///    2|C_h − C_{h/2}| / |C∞| — an upper estimate for any order ≥ 1 in the asymptotic range.
 /// `converged` says estimated_error ≤ tolerance (default 2%) and the supports are the same region on
-/// every level: the extent of the fixed and of the clamped vertices (host/scene/scene.h
+/// every level: the extent of the supported vertices (held along any axis) and of the clamped ones (host/scene/scene.h
 /// support_extent) may differ by at most support_tolerance (1%) from the coarse mesh's. A selection
 /// that fixes more of a finer mesh (a box catching a surface that rises tangentially out of it)
 /// makes each level a different structure, whose compliances say nothing of the mesh's error: the
@@ -121,7 +121,7 @@ struct DiscretisationLevel {
   double edge_length = 0;  ///< m
   int faces = 0;
   EquilibriumScalars quantities;  ///< of the material
-  SupportExtent fixed, clamped;   ///< what the scene's supports hold on this level's mesh
+  SupportExtent fixed, clamped;   ///< what the scene's supports hold on this level's mesh (fixed: along any axis)
   /// The level's Newton iterations and whether they started from the last level's solution (not
   /// from rest); −1 and false for h, which is solved elsewhere.
   int newton_iterations = -1;

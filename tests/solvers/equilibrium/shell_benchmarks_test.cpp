@@ -18,10 +18,12 @@
 // diagonal; on a "union jack" grid (alternating diagonals, valences 4 and 8) the shape-operator
 // element converges to a curved shell that is too soft (the last test, docs/DESIGN.md "Shell
 // mechanics"). CUTWORK_SHELL_BENCHMARK_TABLE=1 adds a finer mesh to each table (minutes) and
-// CUTWORK_SHELL_BENCHMARK_PATTERN (shifted, diagonal, union_jack) picks the pattern of the tables.
+// CUTWORK_SHELL_BENCHMARK_PATTERN (shifted, diagonal, union_jack) picks the pattern of the tables,
+// CUTWORK_SHELL_BENCHMARK_BENDING=hinge the paper's hinge bending (the tables only; it fails them).
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #include <string>
@@ -30,7 +32,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "host/mesh/mesh_io.h"
 #include "host/mesh/union_jack_flips.h"
+#include "host/scene/scene.h"
+#include "solvers/conforming/simulation_mesh_choice.h"
+#include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/equilibrium/equilibrium_solver.h"
 
 namespace cutwork::solvers {
@@ -133,7 +139,10 @@ SurfaceMesh test_plate_mesh() {
 /// Linear displacements (#V×3) of `mesh` under `forces` × `scale`, divided by `scale`.
 RowMatX3d linear_displacements(const SurfaceMesh& mesh, const Material& material, LoadCase lc, double scale) {
   lc.forces *= scale;
-  const ShellModel model(mesh, material, lc);
+  MechanicsSettings mechanics;  // CUTWORK_SHELL_BENCHMARK_BENDING=hinge: the paper's hinges instead
+  const char* bending = std::getenv("CUTWORK_SHELL_BENCHMARK_BENDING");
+  if (bending && std::string(bending) == "hinge") mechanics.bending = BendingModel::Hinge;
+  const ShellModel model(mesh, material, lc, mechanics);
   EquilibriumSolver solver(model);
   solver.solve(Eigen::VectorXd::Ones(mesh.num_faces()));
   return solver.displacements() / scale;
@@ -250,6 +259,48 @@ TEST(ShellBenchmarks, ScordelisLoRoof) {
     rows.push_back(r);
   }
   expect_converges_to("Scordelis-Lo roof, free edge's vertical displacement at mid-span", rows, 0.3006, 0.015, 0.25);
+}
+
+// The roof as a user sets it up: a mesh file of it, a scene with its diaphragms as supports along
+// x and z ("axes") and its weight as an area load, the simulation mesh chosen by "auto"
+// (mesh.sim_subdivisions): what `cutwork simulate roof.json` solves.
+TEST(ShellBenchmarks, ScordelisLoRoofFromAScene) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cutwork-scordelis-lo";
+  std::filesystem::create_directories(dir);
+  const double R = 25, L = 50, half = 40 * pi / 180;
+  const int n = 16;
+  const SurfaceMesh roof = grid_mesh(n, n, false, [&](double i, double j) {
+    const double theta = -half + 2 * half * i / n, y = -L / 2 + L * j / n;
+    return Vec3(R * std::sin(theta), y, R * std::cos(theta));
+  }, "roof");
+  write_obj(dir / "roof.obj", roof.vertices(), roof.faces());
+  const double scale = 1e-5;  // the linear regime
+  const nlohmann::json doc = {
+      {"name", "scordelis-lo"},
+      {"mesh", {{"file", (dir / "roof.obj").string()}}},
+      {"material", {{"youngs_modulus", 4.32e8}, {"poisson_ratio", 0.0}, {"thickness", 0.25}, {"density", 1.0}}},
+      {"supports", nlohmann::json::array(
+                       {{{"type", "pinned"}, {"axes", "xz"}, {"select", {{"y", {{"below", -L / 2 + 1e-6}}}}}},
+                        {{"type", "pinned"}, {"axes", "xz"}, {"select", {{"y", {{"above", L / 2 - 1e-6}}}}}},
+                        {{"type", "pinned"}, {"axes", "y"}, {"select", {{"near", {{"point", {0, 0, R}}, {"radius", 1e-6}}}}}}})},
+      {"loads", nlohmann::json::array({{{"type", "area"}, {"force", {0, 0, -90 * scale}}, {"select", {{"entity", "faces"}}}}})}};
+  const Scene scene = parse_scene(doc, "test:scordelis-lo");
+  SceneMeshes meshes = build_scene_meshes(scene);
+  const std::string note = choose_simulation_mesh(scene, meshes);
+  std::printf("%s\n", note.c_str());
+  EXPECT_GE(meshes.sim_subdivisions, 1) << "the file's 512 triangles are 11% from converged";
+  const LoadCase lc = resolve_load_case(scene, meshes.sim);
+  const ShellModel model(meshes.sim, scene.material, lc, scene_mechanics(scene));
+  EquilibriumSolver solver(model);
+  solver.solve(Eigen::VectorXd::Ones(meshes.sim.num_faces()));
+  const RowMatX3d u = solver.displacements() / scale;
+  const int edge = nearest_vertex(meshes.sim, Vec3(R * std::sin(half), 0, R * std::cos(half)));
+  const int other = nearest_vertex(meshes.sim, Vec3(-R * std::sin(half), 0, R * std::cos(half)));
+  const double w = -0.5 * (u(edge, 2) + u(other, 2));
+  std::printf("Scordelis-Lo roof from a scene, %d triangles: %.4f (%+.2f%% of 0.3006)\n", meshes.sim.num_faces(), w,
+              100 * (w / 0.3006 - 1));
+  EXPECT_NEAR(w / 0.3006, 1.0, 0.02);
+  std::filesystem::remove_all(dir);
 }
 
 // ---- pinched hemisphere --------------------------------------------------------------------------
