@@ -104,7 +104,7 @@ LoadedScene::LoadedScene(const RunOptions& opts, Timings& timings)
                    [&] {
                      SceneMeshes m = build_scene_meshes(scene);
                      if (scene.from_plain_mesh) set_solve_error_hint(metres_hint(m.base));
-                     if (const std::string flips = union_jack_note(m); !flips.empty()) notes.push_back(flips);
+                     for (const std::string& n : model_notes(scene, m)) notes.push_back(n);
                      const std::string note = solvers::choose_simulation_mesh(scene, m);
                      if (!note.empty()) notes.push_back(note);
                      return m;

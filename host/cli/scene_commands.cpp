@@ -126,7 +126,7 @@ void add_check_command(CLI::App& app) {
     std::cout << "scene " << excerpt(scene.name) << (scene.description.empty() ? "" : ": " + excerpt(scene.description, 200))
               << "\n";
     print_mesh("base mesh", meshes.base);
-    if (const std::string flips = union_jack_note(meshes); !flips.empty()) std::cout << "note: " << flips << "\n";
+    for (const std::string& n : model_notes(scene, meshes)) std::cout << "note: " << n << "\n";
     if (!choice.empty()) std::cout << "note: " << choice << "\n";
     if (choice_pending)
       std::cout << "simulation mesh: the file's mesh or a subdivision of it, chosen by the uncut shell's "

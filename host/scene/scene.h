@@ -236,6 +236,10 @@ struct SceneMeshes {
 };
 /// The run's note on a file's union-jack diagonals flipped for the simulation ("" when none).
 std::string union_jack_note(const SceneMeshes& meshes);
+/// The notes a run gives on how its shell model reads this scene: union_jack_note, and where the
+/// scene asks for the paper's hinge bending on a curved surface (a face normal more than 10° from
+/// the mean), what that model gets wrong on curved shells.
+std::vector<std::string> model_notes(const Scene& scene, const SceneMeshes& meshes);
 /// The scene's meshes. A file's mesh with sim_subdivisions "auto" comes back with sim the file's
 /// mesh and sim_choice_pending set (the choice needs the mechanics: solvers::choose_simulation_mesh).
 SceneMeshes build_scene_meshes(const Scene& scene);

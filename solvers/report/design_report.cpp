@@ -329,7 +329,7 @@ json design_into_folder(const Scene& scene, const std::filesystem::path& dir, co
   // Before a file's "auto" simulation mesh is chosen: its claim covers the finest it may choose and
   // the levels the choice solves (estimate_design_memory).
   if (on_meshes) on_meshes(meshes);
-  if (const std::string flips = union_jack_note(meshes); !flips.empty()) info.notes.push_back(flips);
+  for (const std::string& n : model_notes(scene, meshes)) info.notes.push_back(n);
   const std::string choice = choose_simulation_mesh(scene, meshes);
   if (!choice.empty()) info.notes.push_back(choice);
   info.timings.add("meshes", sw.seconds());
