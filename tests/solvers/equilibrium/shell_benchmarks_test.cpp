@@ -185,6 +185,20 @@ void expect_converges_to(const std::string& what, const std::vector<Row>& rows, 
   EXPECT_LE(last, fraction * largest) << table;
 }
 
+/// The benchmark `solve(n, pattern, &faces)` on the meshes of `sizes` (and `finer` with
+/// CUTWORK_SHELL_BENCHMARK_TABLE), in the pattern CUTWORK_SHELL_BENCHMARK_PATTERN names (shifted rows).
+template <typename Solve>
+std::vector<Row> benchmark_rows(std::vector<int> sizes, int finer, Solve&& solve) {
+  if (full_table()) sizes.push_back(finer);
+  std::vector<Row> rows;
+  for (int n : sizes) {
+    Row r;
+    r.value = solve(n, pattern_from_env(Pattern::Shifted), &r.faces);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 // ---- supports along some axes --------------------------------------------------------------------
 
 // A flat plate's bending does not couple to its membrane in the linear regime, so a square plate
@@ -250,14 +264,9 @@ double scordelis_lo(int n, Pattern pattern, int subdivisions, int* faces) {
 }
 
 TEST(ShellBenchmarks, ScordelisLoRoof) {
-  std::vector<Row> rows;
-  std::vector<int> sizes = {4, 8, 16, 32};
-  if (full_table()) sizes.push_back(64);
-  for (int n : sizes) {
-    Row r;
-    r.value = scordelis_lo(n, pattern_from_env(Pattern::Shifted), 0, &r.faces);
-    rows.push_back(r);
-  }
+  const std::vector<Row> rows = benchmark_rows({4, 8, 16, 32}, 64, [](int n, Pattern pattern, int* faces) {
+    return scordelis_lo(n, pattern, 0, faces);
+  });
   expect_converges_to("Scordelis-Lo roof, free edge's vertical displacement at mid-span", rows, 0.3006, 0.015, 0.25);
 }
 
@@ -338,14 +347,7 @@ double pinched_hemisphere(int n, Pattern pattern, int* faces) {
 }
 
 TEST(ShellBenchmarks, PinchedHemisphere) {
-  std::vector<Row> rows;
-  std::vector<int> sizes = {2, 4, 8, 16};
-  if (full_table()) sizes.push_back(32);
-  for (int n : sizes) {
-    Row r;
-    r.value = pinched_hemisphere(n, pattern_from_env(Pattern::Shifted), &r.faces);
-    rows.push_back(r);
-  }
+  const std::vector<Row> rows = benchmark_rows({2, 4, 8, 16}, 32, pinched_hemisphere);
   expect_converges_to("pinched hemisphere, displacement under a force", rows, 0.0924, 0.015, 0.25);
 }
 
@@ -378,14 +380,7 @@ double pinched_cylinder(int n, Pattern pattern, int* faces) {
 }
 
 TEST(ShellBenchmarks, PinchedCylinder) {
-  std::vector<Row> rows;
-  std::vector<int> sizes = {4, 8, 16, 32};
-  if (full_table()) sizes.push_back(64);
-  for (int n : sizes) {
-    Row r;
-    r.value = pinched_cylinder(n, pattern_from_env(Pattern::Shifted), &r.faces);
-    rows.push_back(r);
-  }
+  const std::vector<Row> rows = benchmark_rows({4, 8, 16, 32}, 64, pinched_cylinder);
   expect_converges_to("pinched cylinder, displacement under a force", rows, 1.8248e-5, 0.03, 0.25);
 }
 
