@@ -152,8 +152,11 @@ void add_check_command(CLI::App& app) {
       std::string axes;
       for (int a = 0; a < 3 && sp.axes != kHeldAll; ++a)
         if (sp.axes & (1u << a)) axes += char('x' + a);
-      std::cout << fmt::format("  {}{} at {} ({} {})\n", sp.kind == SupportKind::Clamped ? "clamped" : "pinned",
-                               axes.empty() ? "" : " along " + axes, sp.select.json_path,
+      const std::string what =
+          sp.kind == SupportKind::Symmetry
+              ? fmt::format("symmetry plane {} = {:.4g}", axes, lc.symmetry_planes[axes[0] - 'x'])
+              : (sp.kind == SupportKind::Clamped ? "clamped" : "pinned") + (axes.empty() ? "" : " along " + axes);
+      std::cout << fmt::format("  {} at {} ({} {})\n", what, sp.select.json_path,
                                select_entities(sp.select, meshes.sim).size(), entity_word(sp.select.entity));
     }
     std::cout << "loads:\n";

@@ -189,8 +189,10 @@ void run_simulate(const SimulateOptions& opts) {
   }
 
   nlohmann::json lattice_order = nullptr;
-  if (!stencils.empty())
+  if (!stencils.empty()) {
     lattice_order = solvers::lattice_order_json(scene.mechanics, surface.bvh(), surface.field(), stencils, notes);
+    solvers::symmetry_plane_notes(model.load_case(), stencils, notes);
+  }
 
   const solvers::FillRatioSource fill{with_stencils ? opts.stencils : std::string("uncut"), shell.num_stencils(),
                                       &alpha, &shell.face_alpha()};

@@ -3,6 +3,7 @@
 /// JSON. Built by host/scene (resolve_load_case) and consumed by solvers/.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "host/core/types.h"
@@ -152,8 +153,9 @@ struct MechanicsSettings {
 };
 
 enum class SupportKind {
-  Pinned,   ///< the selected vertices cannot move
-  Clamped,  ///< pinned, and the surface's tangent plane along them cannot rotate
+  Pinned,    ///< the selected vertices cannot move
+  Clamped,   ///< pinned, and the surface's tangent plane along them cannot rotate
+  Symmetry,  ///< the boundary on a plane of mirror symmetry: held across the plane, its slope mirrored
 };
 
 /// A load spread over the surface (an area or pressure load, or a point load's patch) as the faces
@@ -184,6 +186,15 @@ struct LoadCase {
   /// along the other axes (a roller, a diaphragm, a bearing). 0: free. ShellModel treats a mask of
   /// all three axes as `fixed`.
   std::vector<std::uint8_t> held_axes;
+  /// #V or empty (none): the planes of mirror symmetry a vertex lies on, bits as held_axes (kHeldX:
+  /// the plane x = symmetry_planes.x()). Such a vertex is held along the plane's normal (its
+  /// held_axes bit is set too) and slides in the plane; across a boundary edge whose two vertices lie
+  /// on one plane the shape-operator bend continues the surface by its mirror image (a ghost node),
+  /// so the slope across the plane is the mirrored one — the structure is modelled by its half
+  /// (solvers/shell/shell_model.h). The structure's loads and supports must be symmetric too.
+  std::vector<std::uint8_t> symmetry_axes;
+  /// The coordinate of each axis's symmetry plane (x = symmetry_planes.x(), …); NaN where none.
+  Vec3 symmetry_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   /// #V×3 dead loads (N) that do not depend on the fill ratios: point, edge and area loads.
   RowMatX3d forces;
   /// The loads among `forces` that are spread over the surface, face by face: a model of fill

@@ -51,7 +51,7 @@ constexpr NamedValue<StructuralObjective> kStructuralObjectives[] = {
     {"compliance", StructuralObjective::Compliance}};
 constexpr NamedValue<DensityMeasure> kDensityMeasures[] = {{"mean", DensityMeasure::Mean},
                                                            {"peak", DensityMeasure::Peak}};
-const std::vector<std::string> kSupportTypes{"pinned", "clamped"};
+const std::vector<std::string> kSupportTypes{"pinned", "clamped", "symmetry"};
 
 /// The names of a table, in its order (what a reader accepts).
 template <class E, size_t N>
@@ -235,10 +235,19 @@ std::vector<SupportSpec> parse_supports_section(JsonObjectReader& root, const st
   for (size_t i = 0; i < arr.size(); ++i) {
     JsonObjectReader s(arr[i], origin, "/supports/" + std::to_string(i));
     SupportSpec spec;
-    spec.kind = s.string("type", "pinned", kSupportTypes) == "clamped" ? SupportKind::Clamped
-                                                                        : SupportKind::Pinned;
+    const std::string type = s.string("type", "pinned", kSupportTypes);
+    spec.kind = type == "clamped" ? SupportKind::Clamped : type == "symmetry" ? SupportKind::Symmetry : SupportKind::Pinned;
     if (!s.has("select")) s.fail("select", "is required: which vertices are supported");
     spec.select = parse_selector(s.object("select"), Entity::Vertices);
+    if (spec.kind == SupportKind::Symmetry) {
+      // The plane's normal: the boundary on the plane x = const (y, z) is held along it.
+      if (s.has("axes")) s.fail("axes", "is for pinned supports: a symmetry plane names its normal, \"axis\": \"x\"");
+      if (!s.has("axis")) s.fail("axis", "is required: the symmetry plane's normal, \"x\", \"y\" or \"z\" (the plane x = const through the selected vertices)");
+      const std::string axis = s.string("axis", "x", {"x", "y", "z"});
+      spec.axes = std::uint8_t(1u << (axis[0] - 'x'));
+    } else if (s.has("axis")) {
+      s.fail("axis", "is for symmetry supports (\"type\": \"symmetry\"); a pinned support along some axes names them in \"axes\"");
+    }
     if (s.has("axes")) {
       // The global axes held, e.g. "xz" for a diaphragm across y or "z" for a sliding bearing.
       const std::string axes = s.string("axes", "xyz");
@@ -467,6 +476,11 @@ Scene parse_scene(const json& doc, const std::string& origin, const fs::path& ba
     throw InputError(origin +
                      ": /structure/measure: 'peak' needs mechanics.stiffness 'homogenised' (the concentration factors "
                      "come from its cell problems)");
+  for (size_t i = 0; i < scene.supports.size(); ++i)
+    if (scene.supports[i].kind == SupportKind::Symmetry && scene.mechanics.bending == BendingModel::Hinge)
+      throw InputError(origin + ": /supports/" + std::to_string(i) +
+                       ": a symmetry plane needs mechanics.bending 'shape_operator' (the hinge model has no mirrored "
+                       "slope across a boundary)");
   scene.fabrication = parse_fabrication_section(root);
   set_tool_radius(scene, scene.fabrication.tool_radius);
   root.finish();
@@ -510,8 +524,14 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
   if (s.mechanics.lattice == PerforationLattice::Square) j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
   j["supports"] = json::array();
   for (const auto& sp : s.supports) {
-    json support = {{"type", sp.kind == SupportKind::Clamped ? "clamped" : "pinned"}, {"select", selector_to_json(sp.select)}};
-    if (sp.axes != kHeldAll) {
+    json support = {{"type", sp.kind == SupportKind::Clamped    ? "clamped"
+                             : sp.kind == SupportKind::Symmetry ? "symmetry"
+                                                                : "pinned"},
+                    {"select", selector_to_json(sp.select)}};
+    if (sp.kind == SupportKind::Symmetry) {
+      for (int a = 0; a < 3; ++a)
+        if (sp.axes & (1u << a)) support["axis"] = std::string(1, char('x' + a));
+    } else if (sp.axes != kHeldAll) {
       std::string axes;
       for (int a = 0; a < 3; ++a)
         if (sp.axes & (1u << a)) axes += char('x' + a);
@@ -775,6 +795,41 @@ bool inside(const Selector& s, const Vec3& x) {
     return false;
   return true;
 }
+
+/// A symmetry support's vertices `vs` onto `lc`: the plane x_a = const they lie on (a the one bit of
+/// `axis`), held along x_a, marked in symmetry_axes. Refuses vertices off one plane, inside the
+/// surface, or a second plane across the same axis (`where` names the support).
+void add_symmetry_plane(LoadCase& lc, const SurfaceMesh& mesh, const std::vector<int>& vs, std::uint8_t axis,
+                        const std::string& where) {
+  const int a = axis == kHeldX ? 0 : axis == kHeldY ? 1 : 2;
+  const char name = char('x' + a);
+  const RowMatX3d& V = mesh.vertices();
+  const double tol = 1e-6 * (mesh.bbox_max() - mesh.bbox_min()).norm();
+  double lo = INFINITY, hi = -INFINITY;
+  for (int v : vs) lo = std::min(lo, V(v, a)), hi = std::max(hi, V(v, a));
+  if (hi - lo > tol)
+    throw InputError(fmt::format("{}: the selected vertices do not lie on one plane {} = const ({} from {} to {}): a "
+                                 "symmetry plane is where the surface meets its mirror image; select its vertices on it",
+                                 where, name, name, format_number(lo), format_number(hi)));
+  for (int v : vs)
+    if (!mesh.is_boundary_vertex()[v])
+      throw InputError(fmt::format("{}: the vertex at {} lies inside the surface, not on its boundary: a symmetry plane "
+                                   "holds the edge where the modelled half ends (select only the boundary on the plane)",
+                                   where, fmt::format("({:.4g}, {:.4g}, {:.4g})", V(v, 0), V(v, 1), V(v, 2))));
+  const double c = 0.5 * (lo + hi);
+  if (std::isfinite(lc.symmetry_planes[a]) && std::abs(lc.symmetry_planes[a] - c) > tol)
+    throw InputError(fmt::format("{}: a second symmetry plane across {} ({} = {}, and {} = {} before): a finite "
+                                 "structure has at most one mirror plane per direction",
+                                 where, name, name, format_number(c), name, format_number(lc.symmetry_planes[a])));
+  if (!std::isfinite(lc.symmetry_planes[a])) lc.symmetry_planes[a] = c;
+  const std::size_t nv = std::size_t(mesh.num_vertices());
+  if (lc.held_axes.empty()) lc.held_axes.assign(nv, 0);
+  if (lc.symmetry_axes.empty()) lc.symmetry_axes.assign(nv, 0);
+  for (int v : vs) {
+    lc.held_axes[std::size_t(v)] |= axis;
+    lc.symmetry_axes[std::size_t(v)] |= axis;
+  }
+}
 }  // namespace
 
 std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh, const std::vector<bool>* outer_boundary) {
@@ -861,7 +916,13 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const st
     vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
     return vs;
   };
-  for (const auto& sp : scene.supports) {
+  for (size_t i = 0; i < scene.supports.size(); ++i) {
+    const SupportSpec& sp = scene.supports[i];
+    if (sp.kind == SupportKind::Symmetry) {
+      add_symmetry_plane(lc, mesh, vertices_of(sp.select, selected(sp.select)), sp.axes,
+                         origin + ": /supports/" + std::to_string(i));
+      continue;
+    }
     for (int v : vertices_of(sp.select, selected(sp.select))) {
       if (sp.axes != kHeldAll) {  // pinned along some axes: the union of every support's
         if (lc.held_axes.empty()) lc.held_axes.assign(std::size_t(nv), 0);

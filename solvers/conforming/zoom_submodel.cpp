@@ -104,7 +104,13 @@ LoadCase submodel_load_case(const Scene& scene, const SceneMeshes& meshes, const
         lc.fixed[v] = lc.fixed[v] || s.fixed[v];
         lc.clamped[v] = lc.clamped[v] || s.clamped[v];
         if (!s.held_axes.empty()) lc.held_axes[v] |= s.held_axes[v];
+        if (!s.symmetry_axes.empty()) {  // a symmetry plane the patch reaches
+          if (lc.symmetry_axes.empty()) lc.symmetry_axes.assign(nv, 0);
+          lc.symmetry_axes[v] |= s.symmetry_axes[v];
+        }
       }
+      for (int a = 0; a < 3; ++a)
+        if (std::isfinite(s.symmetry_planes[a])) lc.symmetry_planes[a] = s.symmetry_planes[a];
     } catch (const InputError&) {
       // selects nothing on the patch
     }

@@ -1,6 +1,7 @@
 #include "solvers/homogenise/fill_stiffness_calibration.h"
 #include "solvers/report/design_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -187,6 +188,9 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   out.cut = cut_with_tool(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params,
                           scene.fabrication.tool_radius);
   info.timings.add("cut", sw.seconds());
+  if (std::any_of(scene.supports.begin(), scene.supports.end(),
+                  [](const SupportSpec& s) { return s.kind == SupportKind::Symmetry; }))
+    symmetry_plane_notes(resolve_load_case(scene, meshes.sim), final_params, info.notes);
   json discretisation = nullptr;
   if (info.discretisation_estimate) {
     sw.restart();

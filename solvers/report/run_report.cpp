@@ -191,4 +191,19 @@ nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thi
           {"units", {{"W", "J/m^2"}, {"width", "m"}, {"radius", "m"}}}};
 }
 
+void symmetry_plane_notes(const LoadCase& load_case, std::span<const StencilParams> stencils,
+                          std::vector<std::string>& notes) {
+  for (int a = 0; a < 3; ++a) {
+    const double c = load_case.symmetry_planes[a];
+    if (!std::isfinite(c)) continue;
+    int crossing = 0;
+    for (const StencilParams& s : stencils) crossing += std::abs(s.position[a] - c) < s.scale;
+    if (crossing > 0)
+      notes.push_back(fmt::format(
+          "{} stencil{} over the symmetry plane {} = {:.4g}: the built shell, this half and its mirror image, has "
+          "each such hole united with its mirror image, which the half's model cuts at the plane instead",
+          crossing, crossing == 1 ? " reaches" : "s reach", char('x' + a), c));
+  }
+}
+
 }  // namespace cutwork::solvers

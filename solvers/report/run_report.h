@@ -44,4 +44,11 @@ nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thi
 nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
                                   std::span<const StencilParams> stencils, std::vector<std::string>& notes);
 
+/// Appends a line to `notes` per symmetry plane of `load_case` (LoadCase::symmetry_planes) that
+/// stencils cross (their bounding circles reach over it): the built shell, the modelled half and its
+/// mirror image, has each such hole united with its mirror image, which the half's model does not
+/// see (it cuts the stencil at the plane).
+void symmetry_plane_notes(const LoadCase& load_case, std::span<const StencilParams> stencils,
+                          std::vector<std::string>& notes);
+
 }  // namespace cutwork::solvers

@@ -49,6 +49,12 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
                         {"density", scene.material.density},
                         {"bending_stiffness", k.bending}};
   int fixed = 0, clamped = 0, held = 0;
+  const auto symmetry_planes_json = [](const LoadCase& lc) {
+    nlohmann::json planes = nlohmann::json::object();  // {"x": 0} for the plane x = 0
+    for (int a = 0; a < 3; ++a)
+      if (std::isfinite(lc.symmetry_planes[a])) planes[std::string(1, char('x' + a))] = lc.symmetry_planes[a];
+    return planes;
+  };
   for (int v = 0; v < model.num_vertices(); ++v) {
     fixed += model.fixed()[v] ? 1 : 0;
     clamped += model.load_case().clamped[v] ? 1 : 0;
@@ -59,6 +65,7 @@ nlohmann::json simulate_report(const Scene& scene, const SceneMeshes& meshes, co
                       {"fixed_vertices", fixed},
                       {"clamped_vertices", clamped},
                       {"held_vertices", held},
+                      {"symmetry_planes", symmetry_planes_json(model.load_case())},
                       {"membranes", model.num_faces()},
                       {"bending", scene.mechanics.bending == BendingModel::Hinge ? "hinge" : "shape_operator"},
                       {"stiffness", model.fill_stiffness().linear() ? "linear" : "homogenised"},

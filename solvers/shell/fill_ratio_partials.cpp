@@ -38,10 +38,14 @@ Eigen::VectorXd energy_alpha_gradient(const ShellModel& model, const RowMatX3d& 
 Eigen::VectorXd force_alpha_product(const ShellModel& model, const RowMatX3d& x, const Eigen::VectorXd& alpha,
                                     const Eigen::VectorXd& lambda) {
   const int ne = model.num_elements();
+  // The held DOFs' rows of f are the supports' reactions, not forces on the shell: zero.
+  Eigen::VectorXd held_free_lambda = lambda;
+  model.zero_held(held_free_lambda);
+  const Eigen::VectorXd& lambda_free = held_free_lambda;
   // λ · (unit element gradient), per element, in parallel.
   std::vector<double> lg(std::size_t(ne), 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, ne, 512), [&](const tbb::blocked_range<int>& r) {
-    for (int e = r.begin(); e < r.end(); ++e) lg[e] = lambda_dot_unit_gradient(model, x, e, lambda);
+    for (int e = r.begin(); e < r.end(); ++e) lg[e] = lambda_dot_unit_gradient(model, x, e, lambda_free);
   });
   Eigen::VectorXd out = Eigen::VectorXd::Zero(model.num_faces());
   // f = −∂Ŵ/∂x + f_ext: the elastic part enters with a minus sign.
@@ -49,7 +53,7 @@ Eigen::VectorXd force_alpha_product(const ShellModel& model, const RowMatX3d& x,
     for_each_fill_dependence(model, alpha, e, [&](int face, double dscale) { out[face] -= dscale * lg[e]; });
   // The external forces' part: self-weight and the surface loads (λ is zero on fixed vertices).
   RowMatX3d lambda_v = RowMatX3d::Zero(model.num_vertices(), 3);
-  model.scatter_free(lambda, lambda_v);
+  model.scatter_free(lambda_free, lambda_v);
   model.add_load_alpha_product(lambda_v, alpha, out);
   return out;
 }
@@ -108,6 +112,10 @@ Eigen::SparseMatrix<double> force_alpha_jacobian(const ShellModel& model, const 
       }
     }
   }
+  // The held DOFs' rows are the supports' reactions: zero, as the solver's residual has them.
+  std::vector<bool> held(std::size_t(model.num_dofs()), false);
+  for (int d : model.held_dofs()) held[std::size_t(d)] = true;
+  std::erase_if(triplets, [&](const Eigen::Triplet<double>& t) { return held[std::size_t(t.row())]; });
   Eigen::SparseMatrix<double> J(model.num_dofs(), model.num_faces());
   J.setFromTriplets(triplets.begin(), triplets.end());
   return J;

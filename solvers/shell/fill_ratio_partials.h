@@ -6,7 +6,9 @@
 /// and likewise for the element gradients. Self-weight adds ∂f_ext/∂α_t = ρ h A_t g / 3 per vertex,
 /// a surface load s F_t − (a_t / Σ α a) f (ShellModel::add_load_alpha_product).
 ///
-/// f(x, α) = −∂Ŵ/∂x + f_ext(α) is the net force (12) on the free DOFs (#DOF, N); x is #V×3 (m).
+/// f(x, α) = −∂Ŵ/∂x + f_ext(α) is the net force (12) on the free DOFs (#DOF, N), zero on the DOFs
+/// held by supports along some axes (ShellModel::held_dofs: there it is the support's reaction, and
+/// the equilibrium's residual is zeroed as well); x is #V×3 (m).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 

@@ -38,7 +38,7 @@ Vec3 ghost_point(const Vec3& a, const Vec3& b, const Vec3& opposite) {
 }
 
 ShapeOperatorRest shape_operator_rest(const std::array<Vec3, 6>& X, const std::array<PatchNode, 3>& across,
-                                      double nu) {
+                                      double nu, const std::array<Vec3, 3>* mirror) {
   // 1. Orthonormal rest frame of the face.
   const Vec3 e1 = X[1] - X[0], e2 = X[2] - X[0];
   const Vec3 m = e1.cross(e2);
@@ -58,9 +58,15 @@ ShapeOperatorRest shape_operator_rest(const std::array<Vec3, 6>& X, const std::a
     if (across[i] != PatchNode::Ghost) continue;
     const Vec3& a = X[(i + 1) % 3];
     const Vec3 t = (X[(i + 2) % 3] - a).normalized();
-    rest.ghost_conormal[i] = normal.cross(t);
     rest.ghost_anchor[i] = a;
-    Xp[3 + i] = ghost_point(a, X[(i + 2) % 3], X[i]);
+    if (mirror && (*mirror)[i].squaredNorm() > 0) {  // a symmetry plane's mirror image
+      const Vec3 n = (*mirror)[i].normalized();
+      rest.ghost_conormal[i] = n;
+      Xp[3 + i] = X[i] - 2.0 * n * n.dot(X[i] - a);
+    } else {
+      rest.ghost_conormal[i] = normal.cross(t);
+      Xp[3 + i] = ghost_point(a, X[(i + 2) % 3], X[i]);
+    }
   }
   std::array<Eigen::Vector2d, 6> xi;
   for (int k = 0; k < 3; ++k) xi[k] = planar(X[k]);

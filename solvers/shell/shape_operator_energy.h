@@ -68,7 +68,7 @@ inline constexpr double kShapeOperatorModeCutoff = 1e-3;
 /// What lies across edge i of a face (the edge opposite vertex i).
 enum class PatchNode {
   Vertex,  ///< the neighbour face's opposite vertex
-  Ghost,   ///< a clamped edge: a fixed ghost point continuing the rest tangent plane
+  Ghost,   ///< a clamped edge (or one on a symmetry plane): a ghost point mirroring the opposite vertex
   Free,    ///< a free or simply supported edge: the mode is condensed
 };
 
@@ -91,8 +91,14 @@ struct ShapeOperatorRest {
 
 /// Builds the rest data from the rest positions of the six patch nodes (`X[3+i]` is ignored unless
 /// `across[i]` is Vertex) and Poisson's ratio ν ∈ [0, 0.5). Throws SolveError for a degenerate face.
+/// `mirror` (optional): per edge i whose ghost is a symmetry plane's rather than a clamp's, the
+/// plane's unit normal (zero elsewhere). The ghost is then f's opposite vertex reflected in that
+/// plane, through the edge's rest vertices (which must lie on it), g = R x_i + (I − R) X_a with
+/// R = I − 2 n nᵀ: the mirror image of the surface beyond the plane, whatever angle f meets it at (a
+/// clamp's ghost is the special case n = m̄, f meeting the plane square). The edge's vertices slide
+/// in the plane (held along n) while the ghost follows x_i.
 ShapeOperatorRest shape_operator_rest(const std::array<Vec3, 6>& X, const std::array<PatchNode, 3>& across,
-                                      double poisson_ratio);
+                                      double poisson_ratio, const std::array<Vec3, 3>* mirror = nullptr);
 
 /// The mirror image of `opposite` across the line (a, b) in the plane of (a, b, opposite): the ghost
 /// point of a clamped edge (a, b) at rest (the hinge model's fixed clamp ghost).

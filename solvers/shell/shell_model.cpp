@@ -33,11 +33,19 @@ void check_load_case(LoadCase& lc, int nv, int nf) {
   if (lc.fixed.empty()) lc.fixed.assign(nv, false);
   if (lc.clamped.empty()) lc.clamped.assign(nv, false);
   if (lc.held_axes.empty()) lc.held_axes.assign(std::size_t(nv), 0);
+  if (lc.symmetry_axes.empty()) lc.symmetry_axes.assign(std::size_t(nv), 0);
   if (lc.forces.rows() == 0) lc.forces = RowMatX3d::Zero(nv, 3);
   if (int(lc.fixed.size()) != nv || int(lc.clamped.size()) != nv || int(lc.held_axes.size()) != nv ||
-      lc.forces.rows() != nv)
-    throw InputError(fmt::format("load case: sized for {} / {} / {} / {} vertices, the mesh has {}",
-                                 lc.fixed.size(), lc.clamped.size(), lc.held_axes.size(), lc.forces.rows(), nv));
+      int(lc.symmetry_axes.size()) != nv || lc.forces.rows() != nv)
+    throw InputError(fmt::format("load case: sized for {} / {} / {} / {} / {} vertices, the mesh has {}",
+                                 lc.fixed.size(), lc.clamped.size(), lc.held_axes.size(), lc.symmetry_axes.size(),
+                                 lc.forces.rows(), nv));
+  for (int v = 0; v < nv; ++v)
+    for (int a = 0; a < 3; ++a)
+      if ((lc.symmetry_axes[std::size_t(v)] & (1u << a)) &&
+          (!std::isfinite(lc.symmetry_planes[a]) || !(lc.held_axes[std::size_t(v)] & (1u << a) || lc.fixed[v])))
+        throw InputError(fmt::format("load case: vertex {} lies on a symmetry plane across {} that is {}", v,
+                                     char('x' + a), std::isfinite(lc.symmetry_planes[a]) ? "not held" : "not given"));
   for (int v = 0; v < nv; ++v)
     if (lc.held_axes[std::size_t(v)] > kHeldAll)
       throw InputError(fmt::format("load case: vertex {} is held along axes {:#x}, not a mask of x, y, z", v,
@@ -72,8 +80,20 @@ void check_load_case(LoadCase& lc, int nv, int nf) {
 /// accumulated as JᵀJ over (t, ω) with p taken from the part's centre and scaled by its size. An
 /// empty string when they hold all six motions, else the motion in words.
 std::string free_rigid_motion(const RowMatX3d& X, const std::vector<int>& supported,
-                              const std::vector<std::uint8_t>& axes, const Vec3& centre, double size) {
+                              const std::vector<std::uint8_t>& axes, const Vec3& centre, double size,
+                              std::uint8_t mirrored = 0) {
   Eigen::Matrix<double, 6, 6> jtj = Eigen::Matrix<double, 6, 6>::Zero();
+  // A symmetry plane across axis a mirrors the slope across it: the half may turn about a alone
+  // (ω parallel to e_a), so ω · e_b = 0 for the two other axes b.
+  for (int a = 0; a < 3; ++a) {
+    if (!(mirrored & (1u << a))) continue;
+    for (int b = 0; b < 3; ++b) {
+      if (b == a) continue;
+      Eigen::Matrix<double, 6, 1> row;
+      row << Vec3::Zero(), Vec3::Unit(b);
+      jtj += row * row.transpose();
+    }
+  }
   for (std::size_t i = 0; i < supported.size(); ++i) {
     const Vec3 p = (X.row(supported[i]).transpose() - centre) / size;
     for (int a = 0; a < 3; ++a) {
@@ -105,7 +125,7 @@ std::string free_rigid_motion(const RowMatX3d& X, const std::vector<int>& suppor
 /// stop all six rigid motions. Throws SolveError naming the part otherwise.
 void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced, const std::vector<bool>& fixed,
                     const std::vector<std::uint8_t>& held_axes, const std::vector<ClampHinge>& clamps,
-                    const std::vector<ShellBend>& bends) {
+                    const std::vector<ShellBend>& bends, const std::vector<bool>& clamped) {
   const int nv = mesh.num_vertices(), nf = mesh.num_faces();
   const RowMatX3d& X = mesh.vertices();
   const RowMatX3i& F = mesh.faces();
@@ -126,9 +146,19 @@ void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced
   }
   for (int f = 0; f < nf; ++f) ++faces_of[find_root(parent, F(f, 0))];
   for (const ClampHinge& ch : clamps) clamped_part[find_root(parent, ch.v[0])] = true;
+  std::vector<std::uint8_t> mirrored_part(nv, 0);  // the symmetry planes a part has a mirrored edge on
   for (const ShellBend& b : bends)
-    for (int i = 0; i < 3; ++i)
-      if (b.rest.across[i] == PatchNode::Ghost) clamped_part[find_root(parent, F(b.face, 0))] = true;
+    for (int i = 0; i < 3; ++i) {
+      if (b.rest.across[i] != PatchNode::Ghost) continue;
+      const int r = find_root(parent, F(b.face, 0));
+      if (clamped[F(b.face, (i + 1) % 3)] && clamped[F(b.face, (i + 2) % 3)]) {
+        clamped_part[r] = true;
+      } else {  // a symmetry plane's ghost: its normal is a coordinate axis
+        int a = 0;
+        b.rest.ghost_conormal[i].cwiseAbs().maxCoeff(&a);
+        mirrored_part[r] |= std::uint8_t(1u << a);
+      }
+    }
   if (!any_fixed)
     throw SolveError(
         "the model is not supported: no fixed vertices, so a rigid motion is possible (add a support "
@@ -158,7 +188,7 @@ void check_supports(const SurfaceMesh& mesh, const std::vector<bool>& referenced
         supported.push_back(v);
         axes.push_back(held_axes[std::size_t(v)]);
       }
-      const std::string motion = free_rigid_motion(X, supported, axes, centre, std::max(size, 1e-300));
+      const std::string motion = free_rigid_motion(X, supported, axes, centre, std::max(size, 1e-300), mirrored_part[r]);
       if (!motion.empty())
         throw SolveError(fmt::format(
             "the model is not supported: the supports of the part with {} triangles around {} leave it free "
@@ -314,7 +344,7 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
   // --- supports: every connected part must be held against rigid motion -----------------------
   if (m_node_vertex.empty())
     throw SolveError("nothing to solve: every vertex of the mesh is fixed");
-  check_supports(mesh, referenced, m_fixed, lc.held_axes, m_clamps, m_bends);
+  check_supports(mesh, referenced, m_fixed, lc.held_axes, m_clamps, m_bends, lc.clamped);
 
   // --- loads must load the free part ----------------------------------------------------------
   bool loaded = false;
@@ -395,6 +425,13 @@ Eigen::Matrix3d ShellModel::membrane_part_constitutive(FillPart part, int face) 
 
 bool ShellModel::edge_clamped(int a, int b) const { return m_load_case.clamped[a] && m_load_case.clamped[b]; }
 
+int ShellModel::edge_mirror_axis(int a, int b) const {
+  const std::uint8_t common = m_load_case.symmetry_axes[std::size_t(a)] & m_load_case.symmetry_axes[std::size_t(b)];
+  for (int k = 0; k < 3; ++k)
+    if (common & (1u << k)) return k;
+  return -1;
+}
+
 void ShellModel::build_bends() {
   const SurfaceMesh& mesh = *m_mesh;
   const RowMatX3d& X = mesh.vertices();
@@ -409,6 +446,8 @@ void ShellModel::build_bends() {
       b.face = f;
       std::array<Vec3, 6> rest;
       std::array<PatchNode, 3> across = {PatchNode::Free, PatchNode::Free, PatchNode::Free};
+      std::array<Vec3, 3> mirror = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+      bool mirrored = false;
       for (int k = 0; k < 3; ++k) {
         b.v[k] = F(f, k);
         rest[k] = X.row(F(f, k)).transpose();
@@ -419,6 +458,11 @@ void ShellModel::build_bends() {
         const int g = mesh.edge_faces()(e, 0) == f ? mesh.edge_faces()(e, 1) : mesh.edge_faces()(e, 0);
         if (edge_clamped(a, c)) {
           across[i] = PatchNode::Ghost;
+        } else if (const int axis = g < 0 ? edge_mirror_axis(a, c) : -1; axis >= 0) {
+          // The boundary on a symmetry plane: the mirror image of f's third vertex continues it.
+          across[i] = PatchNode::Ghost;
+          mirror[i] = Vec3::Unit(axis);
+          mirrored = true;
         } else if (g >= 0) {
           int opposite = -1;
           for (int k = 0; k < 3; ++k)
@@ -428,7 +472,7 @@ void ShellModel::build_bends() {
           rest[3 + i] = X.row(opposite).transpose();
         }
       }
-      b.rest = shape_operator_rest(rest, across, m_material.poisson_ratio);
+      b.rest = shape_operator_rest(rest, across, m_material.poisson_ratio, mirrored ? &mirror : nullptr);
     }
   });
 }
@@ -439,6 +483,10 @@ void ShellModel::build_hinges() {
   const RowMatX3i& F = mesh.faces();
   const Eigen::VectorXd& area = mesh.face_areas();
   const double D = m_stiffness.bending;
+  for (int e = 0; e < mesh.num_edges(); ++e)
+    if (mesh.edge_faces()(e, 1) < 0 && edge_mirror_axis(mesh.edges()(e, 0), mesh.edges()(e, 1)) >= 0)
+      throw InputError("a symmetry plane needs mechanics.bending 'shape_operator': the hinge model has no mirrored "
+                       "slope across a boundary");
   for (const Hinge& h : mesh.hinges()) {
     if (edge_clamped(h.v[0], h.v[1])) continue;  // replaced by a clamp hinge on each side
     ShellHinge sh;

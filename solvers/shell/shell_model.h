@@ -37,6 +37,15 @@
 /// an edge cannot hold a rotation and acts as a pin. The plate tests
 /// (tests/solvers/equilibrium/plate_theory_test.cpp) check both constructions against Kirchhoff.
 /// A clamp hinge is scaled by its face's α_f (its ghost half carries no material).
+/// A symmetry plane (LoadCase::symmetry_axes) holds its vertices along the plane's normal only (they
+/// slide in it, as held_axes do) and mirrors the slope: across a boundary edge whose two vertices lie
+/// on one plane, the shape-operator patch takes the mirror image of f's third vertex in the plane as
+/// its ghost — the current position reflected, so the ghost moves with the structure — which is the
+/// neighbour the whole, symmetric structure would have there under a symmetric deformation: a half
+/// model on a mesh whose mirror image completes it solves the whole to round-off
+/// (tests/solvers/equilibrium/symmetry_plane_test.cpp). The hinge model refuses symmetry planes.
+/// The rigid-motion check counts a mirrored edge as holding the rotations about the two axes in its
+/// plane.
 ///
 /// Loads: LoadCase::forces are dead loads (N per vertex, constant in x and α); self-weight of face
 /// t is α_t ρ h A_t g, lumped equally to its three vertices (a stencil removes mass as well as
@@ -230,6 +239,8 @@ class ShellModel {
 
  private:
   bool edge_clamped(int a, int b) const;
+  /// The axis of a symmetry plane both a and b lie on (LoadCase::symmetry_axes), or −1.
+  int edge_mirror_axis(int a, int b) const;
   void build_bends();
   void build_hinges();
 

@@ -306,6 +306,77 @@ TEST(Scene, ASupportAlongSomeAxes) {
   expect_rejected(bad, {"/supports/0/axes", "clamp"});
 }
 
+// A symmetry plane ("type": "symmetry", "axis": "x"): the boundary on the plane x = const is held
+// along x and marked as mirrored (LoadCase::symmetry_axes, symmetry_planes), the scene writes it
+// back, and what cannot be a symmetry plane is refused on one line naming the support.
+TEST(Scene, ASymmetryPlane) {
+  json d = json::parse(R"({
+    "mesh": {"generator": "sheet", "edge_length": 0.1, "sim_edge_length": 0.1},
+    "supports": [{"type": "symmetry", "axis": "x", "select": {"entity": "vertices", "x": {"below": -0.4999999}}},
+                 {"type": "pinned", "select": {"entity": "vertices", "x": {"above": 0.4999999}}}],
+    "loads": [{"type": "self_weight"}]})");
+  const Scene s = parse_scene(d, "test.json");
+  ASSERT_EQ(s.supports.size(), 2u);
+  EXPECT_EQ(s.supports[0].kind, SupportKind::Symmetry);
+  EXPECT_EQ(s.supports[0].axes, kHeldX);
+  EXPECT_EQ(scene_to_json(s)["supports"][0]["type"], "symmetry");
+  EXPECT_EQ(scene_to_json(s)["supports"][0]["axis"], "x");
+  EXPECT_EQ(scene_to_json(parse_scene(scene_to_json(s), "again")), scene_to_json(s));
+  const SceneMeshes m = build_scene_meshes(s);
+  const LoadCase lc = resolve_load_case(s, m.sim);
+  EXPECT_DOUBLE_EQ(lc.symmetry_planes.x(), -0.5);
+  EXPECT_TRUE(std::isnan(lc.symmetry_planes.y()) && std::isnan(lc.symmetry_planes.z()));
+  int on_plane = 0;
+  for (int v = 0; v < m.sim.num_vertices(); ++v) {
+    const bool on = m.sim.vertices()(v, 0) < -0.4999999;
+    on_plane += on;
+    EXPECT_EQ(lc.symmetry_axes[std::size_t(v)], on ? kHeldX : 0) << v;
+    EXPECT_EQ(lc.held_axes[std::size_t(v)], on ? kHeldX : 0) << v;
+    EXPECT_FALSE(lc.fixed[std::size_t(v)] && on) << v;
+  }
+  EXPECT_GT(on_plane, 5);
+
+  json bad = d;
+  bad["mechanics"] = {{"bending", "hinge"}};
+  expect_rejected(bad, {"/supports/0", "shape_operator"});
+  bad = d;
+  bad["supports"][0].erase("axis");
+  expect_rejected(bad, {"/supports/0/axis", "required"});
+  bad = d;
+  bad["supports"][0]["axes"] = "x";
+  expect_rejected(bad, {"/supports/0/axes", "normal"});
+  bad = d;
+  bad["supports"][1]["axis"] = "x";
+  expect_rejected(bad, {"/supports/1/axis", "symmetry"});
+  bad = d;
+  bad["supports"][0]["axis"] = "w";
+  expect_rejected(bad, {"/supports/0/axis"});
+  // Refused on the mesh: vertices off one plane, a plane through the inside of the surface, and a
+  // second plane across the same axis.
+  const auto expect_unresolvable = [&](const json& doc, std::initializer_list<const char*> fragments) {
+    const Scene sc = parse_scene(doc, "test.json");
+    try {
+      resolve_load_case(sc, m.sim);
+      ADD_FAILURE() << "resolved: " << doc["supports"].dump();
+    } catch (const InputError& e) {
+      for (const char* f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  };
+  bad = d;
+  bad["supports"][0]["select"] = {{"entity", "vertices"}, {"x", {{"below", -0.3}}}};
+  expect_unresolvable(bad, {"/supports/0", "do not lie on one plane x = const"});
+  double row = NAN;  // the y of a row of vertices across the inside of the sheet
+  for (int v = 0; v < m.sim.num_vertices() && std::isnan(row); ++v)
+    if (!m.sim.is_boundary_vertex()[std::size_t(v)]) row = m.sim.vertices()(v, 1);
+  bad = d;
+  bad["supports"][0] = {{"type", "symmetry"}, {"axis", "y"},
+                        {"select", {{"entity", "vertices"}, {"y", {{"above", row - 1e-7}, {"below", row + 1e-7}}}}}};
+  expect_unresolvable(bad, {"/supports/0", "inside the surface"});
+  bad = d;
+  bad["supports"][1] = {{"type", "symmetry"}, {"axis", "x"}, {"select", {{"entity", "vertices"}, {"x", {{"above", 0.4999999}}}}}};
+  expect_unresolvable(bad, {"/supports/1", "a second symmetry plane across x"});
+}
+
 TEST(Scene, SelectingNothingIsAnError) {
   json d = minimal_scene();
   d["supports"] = json::array({{{"select", {{"entity", "vertices"}, {"z", {{"above", 5}}}}}}});

@@ -55,6 +55,34 @@ RandomPatch random_patch(std::mt19937& rng, const std::array<PatchNode, 3>& acro
   return p;
 }
 
+/// The element's energy, gradient and Hessian at p.deformed against central differences of its
+/// energy and gradient; the slots across non-Vertex edges carry nothing.
+void expect_derivatives_match(const RandomPatch& p, const ShapeOperatorRest& rest, double nu) {
+  const Eigen::Matrix3d C = bending_constitutive(nu);
+  const double scale = 2.5;
+  auto energy = [&](const Eigen::VectorXd& x) { return shape_operator_energy(x, rest, C, scale); };
+  auto gradient = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+    Vec18 g;
+    shape_operator_energy_gradient_hessian(x, rest, C, scale, nullptr, &g, nullptr);
+    return g;
+  };
+  double e = 0;
+  Vec18 g;
+  Mat18 H;
+  shape_operator_energy_gradient_hessian(p.deformed, rest, C, scale, &e, &g, &H);
+  EXPECT_NEAR(e, energy(p.deformed), 1e-12 * std::abs(e));
+  const auto cg = test::check_gradient(energy, p.deformed, g, 1.0);
+  EXPECT_LT(cg.best, 1e-7) << cg.table();
+  const auto ch = test::check_jacobian(gradient, p.deformed, H, 1.0);
+  EXPECT_LT(ch.best, 1e-7) << ch.table();
+  EXPECT_LT((H - H.transpose()).norm(), 1e-12 * H.norm());
+  for (int i = 0; i < 3; ++i)
+    if (rest.across[i] != PatchNode::Vertex) {
+      EXPECT_EQ(g.segment<3>(9 + 3 * i).norm(), 0.0);
+      EXPECT_EQ((H.block<3, 18>(9 + 3 * i, 0).norm()), 0.0);
+    }
+}
+
 TEST(ShapeOperatorEnergy, GradientAndHessianMatchCentralDifferences) {
   std::mt19937 rng(5);
   const std::array<std::array<PatchNode, 3>, 5> layouts = {{
@@ -70,30 +98,36 @@ TEST(ShapeOperatorEnergy, GradientAndHessianMatchCentralDifferences) {
         SCOPED_TRACE(fmt::format("across {} {} {}, nu {}, trial {}", int(across[0]), int(across[1]), int(across[2]),
                                  nu, trial));
         const RandomPatch p = random_patch(rng, across);
-        const ShapeOperatorRest rest = shape_operator_rest(p.rest, across, nu);
-        const Eigen::Matrix3d C = bending_constitutive(nu);
-        const double scale = 2.5;
-        auto energy = [&](const Eigen::VectorXd& x) { return shape_operator_energy(x, rest, C, scale); };
-        auto gradient = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-          Vec18 g;
-          shape_operator_energy_gradient_hessian(x, rest, C, scale, nullptr, &g, nullptr);
-          return g;
-        };
-        double e = 0;
-        Vec18 g;
-        Mat18 H;
-        shape_operator_energy_gradient_hessian(p.deformed, rest, C, scale, &e, &g, &H);
-        EXPECT_NEAR(e, energy(p.deformed), 1e-12 * std::abs(e));
-        const auto cg = test::check_gradient(energy, p.deformed, g, 1.0);
-        EXPECT_LT(cg.best, 1e-7) << cg.table();
-        const auto ch = test::check_jacobian(gradient, p.deformed, H, 1.0);
-        EXPECT_LT(ch.best, 1e-7) << ch.table();
-        EXPECT_LT((H - H.transpose()).norm(), 1e-12 * H.norm());
+        expect_derivatives_match(p, shape_operator_rest(p.rest, across, nu), nu);
+      }
+    }
+  }
+}
+
+// A symmetry plane's ghost: f's third vertex reflected in a plane through the edge that f meets at
+// an angle (the plane's normal the edge's conormal turned about the edge by up to ±35°), so the ghost
+// lies off f's plane even at rest.
+TEST(ShapeOperatorEnergy, AMirroredGhostsGradientAndHessianMatchCentralDifferences) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> turn(-0.6, 0.6);
+  for (const auto& across : {std::array<PatchNode, 3>{PatchNode::Ghost, PatchNode::Vertex, PatchNode::Free},
+                             std::array<PatchNode, 3>{PatchNode::Ghost, PatchNode::Ghost, PatchNode::Vertex}}) {
+    for (double nu : {0.0, 0.3}) {
+      for (int trial = 0; trial < 6; ++trial) {
+        SCOPED_TRACE(fmt::format("across {} {} {}, nu {}, trial {}", int(across[0]), int(across[1]), int(across[2]),
+                                 nu, trial));
+        const RandomPatch p = random_patch(rng, across);
+        const Vec3 normal = (p.rest[1] - p.rest[0]).cross(p.rest[2] - p.rest[0]).normalized();
+        std::array<Vec3, 3> mirror = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+        for (int i = 0; i < 3; ++i) {
+          if (across[i] != PatchNode::Ghost) continue;
+          const Vec3 t = (p.rest[(i + 2) % 3] - p.rest[(i + 1) % 3]).normalized();
+          mirror[i] = Eigen::AngleAxisd(turn(rng), t) * normal.cross(t);
+        }
+        const ShapeOperatorRest rest = shape_operator_rest(p.rest, across, nu, &mirror);
         for (int i = 0; i < 3; ++i)
-          if (across[i] != PatchNode::Vertex) {
-            EXPECT_EQ(g.segment<3>(9 + 3 * i).norm(), 0.0);
-            EXPECT_EQ((H.block<3, 18>(9 + 3 * i, 0).norm()), 0.0);
-          }
+          if (across[i] == PatchNode::Ghost) EXPECT_LT((rest.ghost_conormal[i] - mirror[i]).norm(), 1e-15);
+        expect_derivatives_match(p, rest, nu);
       }
     }
   }

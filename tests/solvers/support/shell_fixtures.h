@@ -77,16 +77,27 @@ struct CapFixture {
   /// curved cap's faces at varying angles (test_square_stiffness_curve).
   /// `roller`: instead of its two pinned corners, the edge x = 0.5 is held along x and z only
   /// (LoadCase::held_axes), free to slide along y.
+  /// `mirror`: the edge y = 0 lies on a symmetry plane (LoadCase::symmetry_axes), which the cap
+  /// meets at an angle: held along y, its slope mirrored.
   explicit CapFixture(unsigned seed, BendingModel bending = BendingModel::ShapeOperator,
-                      FillStiffness stiffness = FillStiffness::Linear, bool square = false, bool roller = false) {
+                      FillStiffness stiffness = FillStiffness::Linear, bool square = false, bool roller = false,
+                      bool mirror = false) {
     const int nv = mesh.num_vertices();
     lc.fixed.assign(nv, false);
     lc.clamped.assign(nv, false);
-    if (roller) lc.held_axes.assign(std::size_t(nv), 0);
+    if (roller || mirror) lc.held_axes.assign(std::size_t(nv), 0);
+    if (mirror) {
+      lc.symmetry_axes.assign(std::size_t(nv), 0);
+      lc.symmetry_planes.y() = 0;
+    }
     for (int v = 0; v < nv; ++v) {
       const Vec3 p = mesh.vertices().row(v);
+      if (mirror && p.y() < 1e-9) {
+        lc.held_axes[std::size_t(v)] |= kHeldY;
+        lc.symmetry_axes[std::size_t(v)] = kHeldY;
+      }
       if (p.x() < 1e-9) lc.clamped[v] = lc.fixed[v] = true;
-      if (roller && p.x() > 0.5 - 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+      if (roller && p.x() > 0.5 - 1e-9) lc.held_axes[std::size_t(v)] |= kHeldX | kHeldZ;
       else if (p.x() > 0.5 - 1e-9 && (p.y() < 1e-9 || p.y() > 0.4 - 1e-9)) lc.fixed[v] = true;
     }
     lc.forces = test::pressure_forces(mesh, 400.0, Vec3(0.2, 0, -1).normalized());
