@@ -181,11 +181,13 @@ void run_simulate(const SimulateOptions& opts) {
                                                   stencils, fill_options);
                                             });
     const RowMatX3d displacement = shell.solver().displacements();
+    const Eigen::VectorXd* weight = shell.cell_filter().identity() ? nullptr : &shell.cell_filter().blend();
     estimate = solvers::estimate_discretisation(scene, refined, held, model.mechanics(), summary,
                                                 solvers::simulation_edge_length(scene, meshes), meshes.sim,
-                                                &displacement);
+                                                &displacement, solvers::coarse_peak_inputs_on(meshes.sim, weight, shell.cover()));
     timings.add("discretisation", sw.seconds());
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
+    if (const std::string peak = solvers::peak_discretisation_note(*estimate); !peak.empty()) notes.push_back(peak);
   }
 
   nlohmann::json lattice_order = nullptr;

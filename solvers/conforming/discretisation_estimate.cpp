@@ -24,6 +24,18 @@ double relative_change(double coarse, double fine) {
   return fine != 0 ? std::abs(coarse - fine) / std::abs(fine) : (coarse == 0 ? 0.0 : INFINITY);
 }
 
+/// Sets where the level's W_peak is (W_peak_position, W_peak_at_support) on its mesh.
+void locate_peak(DiscretisationLevel& level, const SurfaceMesh& mesh, const std::vector<bool>& supported) {
+  const int f = level.quantities.W_peak_max_face;
+  if (f < 0 || f >= mesh.num_faces()) return;
+  level.W_peak_position = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int v = mesh.faces()(f, k);
+    level.W_peak_position += mesh.vertices().row(v).transpose() / 3.0;
+    level.W_peak_at_support = level.W_peak_at_support || supported[std::size_t(v)];
+  }
+}
+
 /// The estimate of C_h = values[0] from levels that have not settled: (|C_h − C_finest| + the larger
 /// of the finest three's differences) / |C_finest|.
 double unsettled_error(const std::vector<double>& values) {
@@ -80,43 +92,93 @@ std::vector<RefinedSimulationMesh> refine_simulation_mesh(const Scene& scene, co
   return out;
 }
 
+namespace {
+
+/// Per-face fields of `coarse` (#F × k) as continuous fields on another mesh: each coarse vertex
+/// the area-weighted mean of its faces' values, interpolated at the closest point of a face's
+/// centroid (coarse_fill_ratios_on).
+class CoarseFaceFields {
+ public:
+  CoarseFaceFields(const SurfaceMesh& coarse, const Eigen::MatrixXd& per_face)
+      : m_bvh(std::make_shared<const FaceBvh>(coarse)),
+        m_faces(coarse.faces()),
+        m_at_vertices(Eigen::MatrixXd::Zero(coarse.num_vertices(), per_face.cols())) {
+    Eigen::VectorXd area = Eigen::VectorXd::Zero(coarse.num_vertices());
+    for (int f = 0; f < coarse.num_faces(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        m_at_vertices.row(coarse.faces()(f, k)) += coarse.face_areas()[f] * per_face.row(f);
+        area[coarse.faces()(f, k)] += coarse.face_areas()[f];
+      }
+    for (int v = 0; v < coarse.num_vertices(); ++v) m_at_vertices.row(v) /= std::max(area[v], 1e-300);
+  }
+  /// #F of `fine` × k.
+  Eigen::MatrixXd on(const SurfaceMesh& fine) const {
+    Eigen::MatrixXd out(fine.num_faces(), m_at_vertices.cols());
+    tbb::parallel_for(0, fine.num_faces(), [&](int f) {
+      const auto& F = fine.faces();
+      const auto& X = fine.vertices();
+      const Vec3 centroid = (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3.0;
+      const SurfacePoint p = m_bvh->closest_point(centroid).where;
+      for (Eigen::Index c = 0; c < m_at_vertices.cols(); ++c) {
+        double value = 0;
+        for (int k = 0; k < 3; ++k) value += p.bary[k] * m_at_vertices(m_faces(p.face, k), c);
+        out(f, c) = value;
+      }
+    });
+    return out;
+  }
+
+ private:
+  std::shared_ptr<const FaceBvh> m_bvh;
+  RowMatX3i m_faces;
+  Eigen::MatrixXd m_at_vertices;  ///< #V × k
+};
+
+}  // namespace
+
 FillRatiosOnMesh coarse_fill_ratios_on(const SurfaceMesh& coarse, Eigen::VectorXd alpha, Eigen::VectorXd resolution,
                                        FillRatiosOnMesh own_on) {
   const int nf = coarse.num_faces();
   if (alpha.size() != nf || (own_on && resolution.size() != nf))
     throw InternalError(fmt::format("coarse_fill_ratios_on: {} fill ratios and {} resolutions for {} faces",
                                     alpha.size(), resolution.size(), nf));
-  // Each field's value at each vertex: the area-weighted mean of its faces'.
-  const auto at_vertices = [&coarse](const Eigen::VectorXd& per_face) {
-    Eigen::VectorXd num = Eigen::VectorXd::Zero(coarse.num_vertices()), den = num;
-    for (int f = 0; f < coarse.num_faces(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        num[coarse.faces()(f, k)] += coarse.face_areas()[f] * per_face[f];
-        den[coarse.faces()(f, k)] += coarse.face_areas()[f];
-      }
-    return Eigen::VectorXd(num.cwiseQuotient(den.cwiseMax(1e-300)));
-  };
-  Eigen::VectorXd alpha_v = at_vertices(alpha);
-  Eigen::VectorXd resolution_v = own_on ? at_vertices(resolution) : Eigen::VectorXd();
-  auto bvh = std::make_shared<const FaceBvh>(coarse);
-  return [&coarse, bvh, alpha = std::move(alpha), alpha_v = std::move(alpha_v), resolution_v = std::move(resolution_v),
-          own_on = std::move(own_on)](const SurfaceMesh& fine) {
+  Eigen::MatrixXd fields(nf, own_on ? 2 : 1);
+  fields.col(0) = alpha;
+  if (own_on) fields.col(1) = resolution;
+  auto carried = std::make_shared<const CoarseFaceFields>(coarse, fields);
+  return [&coarse, carried, alpha = std::move(alpha), own_on = std::move(own_on)](const SurfaceMesh& fine) {
     if (&fine == &coarse) return alpha;
-    const Eigen::VectorXd own = own_on ? own_on(fine) : Eigen::VectorXd();
-    Eigen::VectorXd out(fine.num_faces());
-    tbb::parallel_for(0, fine.num_faces(), [&](int f) {
-      const auto& F = fine.faces();
-      const auto& X = fine.vertices();
-      const Vec3 centroid = (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3.0;
-      const SurfacePoint p = bvh->closest_point(centroid).where;
-      double held = 0, r = 0;
-      for (int k = 0; k < 3; ++k) {
-        const int v = coarse.faces()(p.face, k);
-        held += p.bary[k] * alpha_v[v];
-        if (own_on) r += p.bary[k] * resolution_v[v];
-      }
-      out[f] = own_on ? (1 - r) * held + r * own[f] : held;
-    });
+    const Eigen::MatrixXd on = carried->on(fine);
+    if (!own_on) return Eigen::VectorXd(on.col(0));
+    const Eigen::VectorXd own = own_on(fine);
+    return Eigen::VectorXd(((1 - on.col(1).array()) * on.col(0).array() + on.col(1).array() * own.array()).matrix());
+  };
+}
+
+PeakInputsOnMesh coarse_peak_inputs_on(const SurfaceMesh& coarse, const Eigen::VectorXd* weight,
+                                       const ShapeCover* cover) {
+  const int nf = coarse.num_faces();
+  PeakInputs given;
+  if (weight) given.weight = *weight;
+  if (cover) given.cover = *cover;
+  const Eigen::Index shapes = given.cover.covered.cols(), corners = given.cover.corner.cols();
+  if ((weight && given.weight.size() != nf) || (cover && given.cover.covered.rows() != nf) ||
+      (corners > 0 && given.cover.corner.rows() != nf))
+    throw InternalError(fmt::format("coarse_peak_inputs_on: {} weights and a cover of {} rows for {} faces",
+                                    given.weight.size(), given.cover.covered.rows(), nf));
+  Eigen::MatrixXd fields(nf, given.weight.size() + shapes + corners);
+  if (weight) fields.col(0) = given.weight;
+  const Eigen::Index w = given.weight.size() > 0 ? 1 : 0;
+  if (shapes > 0) fields.middleCols(w, shapes) = given.cover.covered;
+  if (corners > 0) fields.middleCols(w + shapes, corners) = given.cover.corner;
+  auto carried = std::make_shared<const CoarseFaceFields>(coarse, fields);
+  return [&coarse, carried, given = std::move(given), w, shapes, corners](const SurfaceMesh& fine) {
+    if (&fine == &coarse) return given;
+    const Eigen::MatrixXd on = carried->on(fine);
+    PeakInputs out;
+    if (w > 0) out.weight = on.col(0);
+    if (shapes > 0) out.cover.covered = on.middleCols(w, shapes);
+    if (corners > 0) out.cover.corner = on.middleCols(w + shapes, corners);
     return out;
   };
 }
@@ -124,7 +186,8 @@ FillRatiosOnMesh coarse_fill_ratios_on(const SurfaceMesh& coarse, Eigen::VectorX
 DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMeshRefinements& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
-                                               const SurfaceMesh& coarse_mesh, const RowMatX3d* coarse_displacement) {
+                                               const SurfaceMesh& coarse_mesh, const RowMatX3d* coarse_displacement,
+                                               const PeakInputsOnMesh& peak_on) {
   const DiscretisationOptions& options = refined.options();
   DiscretisationEstimate e;
   e.tolerance = options.tolerance;
@@ -133,6 +196,7 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     const LoadCase lc = resolve_load_case(scene, coarse_mesh);
     e.levels.push_back({coarse_edge_length, coarse_mesh.num_faces(), coarse, support_extent(coarse_mesh, supported_vertices(lc)),
                         support_extent(coarse_mesh, lc.clamped)});
+    if (peak_on) locate_peak(e.levels.back(), coarse_mesh, supported_vertices(lc));
   }
   e.support_change = 0;
   std::vector<double> compliances{coarse.compliance};
@@ -162,9 +226,13 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     const EquilibriumStats& stats = solver.solve(alpha);
     previous = &r->mesh;
     previous_u = solver.displacements();
-    e.levels.push_back({r->edge_length, r->mesh.num_faces(), summarize_equilibrium(model, solver.positions(), alpha),
+    const PeakInputs peak = peak_on ? peak_on(r->mesh) : PeakInputs{};
+    e.levels.push_back({r->edge_length, r->mesh.num_faces(),
+                        summarize_equilibrium(model, solver.positions(), alpha, peak.weight.size() ? &peak.weight : nullptr,
+                                              peak.cover.empty() ? nullptr : &peak.cover),
                         support_extent(r->mesh, supported_vertices(lc)), support_extent(r->mesh, lc.clamped),
                         stats.newton_iterations, stats.warm_started && !stats.cold_restarted});
+    if (peak_on) locate_peak(e.levels.back(), r->mesh, supported_vertices(lc));
     compliances.push_back(e.levels.back().quantities.compliance);
     e.support_change = std::max({e.support_change, support_extent_change(e.levels.front().fixed, e.levels.back().fixed, coarse_edge_length),
                                  support_extent_change(e.levels.front().clamped, e.levels.back().clamped, coarse_edge_length)});
@@ -183,6 +251,9 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
   const EquilibriumScalars& half = e.levels[1].quantities;
   e.compliance_change = relative_change(c_h, half.compliance);
   e.W_max_change = relative_change(coarse.W_max, half.W_max);
+  e.W_peak_levels = bool(peak_on);
+  if (peak_on && std::isfinite(coarse.W_peak_max) && std::isfinite(half.W_peak_max))
+    e.W_peak_change = relative_change(coarse.W_peak_max, half.W_peak_max);
   e.max_displacement_change = relative_change(coarse.max_displacement, half.max_displacement);
   e.converged = e.estimated_error <= e.tolerance && e.supports_consistent;
   return e;
@@ -229,7 +300,7 @@ std::string discretisation_line(const DiscretisationEstimate& e) {
     values += fmt::format("{}{:.4g} J at {:.3g} m", values.empty() ? "" : ", ", l.quantities.compliance, l.edge_length);
   return fmt::format(
       "compliance {} ({}{}): estimated discretisation error of the first {:.1f}% (tolerance {:.0f}%){}; W_max changes "
-      "by {:.1f}% at half the edge length",
+      "by {:.1f}%{} at half the edge length",
       values, e.rule,
       std::isfinite(e.compliance.order) ? fmt::format(", observed order {:.2f}", e.compliance.order) : std::string(),
       100 * e.estimated_error, 100 * e.tolerance,
@@ -241,7 +312,30 @@ std::string discretisation_line(const DiscretisationEstimate& e) {
           : fmt::format(": NOT converged, the simulation mesh is too coarse for these numbers (a finer "
                         "mesh.sim_edge_length, e.g. {:.3g} m, is closer)",
                         e.levels.back().edge_length),
-      100 * e.W_max_change);
+      100 * e.W_max_change,
+      std::isfinite(e.W_peak_change) ? fmt::format(", W_peak by {:.1f}%", 100 * e.W_peak_change) : std::string());
+}
+
+std::string peak_discretisation_note(const DiscretisationEstimate& e, double tolerance) {
+  if (!(e.W_peak_change > tolerance)) return {};
+  std::string values;
+  for (const DiscretisationLevel& l : e.levels)
+    values += fmt::format("{}{:.4g} J/m^2 at {:.3g} m", values.empty() ? "" : ", ", l.quantities.W_peak_max, l.edge_length);
+  const DiscretisationLevel& finest = e.levels.back();
+  const std::string where = fmt::format("({:.3g}, {:.3g}, {:.3g})", finest.W_peak_position.x(),
+                                        finest.W_peak_position.y(), finest.W_peak_position.z());
+  return fmt::format(
+      "the ligament peak W_peak is not converged on the simulation mesh: it changes by {:.1f}% at half the edge "
+      "length (tolerance {:.0f}%; {}){}",
+      100 * e.W_peak_change, 100 * tolerance, values,
+      finest.W_peak_at_support
+          ? fmt::format("; on the finest level it is at a support, {} m, where the exact energy density may be "
+                        "singular (a clamped corner, a point support) and a maximum need not converge",
+                        where)
+          : fmt::format("; on the finest level at {} m, where the field varies within a triangle (a hole the "
+                        "triangles resolve has its rim's peak averaged over its rim faces); cutwork verify reads the "
+                        "peak on conforming rims",
+                        where));
 }
 
 nlohmann::json support_extent_json(const SupportExtent& x) {
@@ -256,6 +350,12 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
                       {"compliance", l.quantities.compliance},
                       {"strain_energy", l.quantities.strain_energy},
                       {"W_max", l.quantities.W_max},
+                      {"W_peak", e.W_peak_levels ? number_or_null(l.quantities.W_peak_max) : nlohmann::json()},
+                      {"W_peak_position", l.W_peak_position.allFinite()
+                                              ? nlohmann::json::array({l.W_peak_position.x(), l.W_peak_position.y(),
+                                                                       l.W_peak_position.z()})
+                                              : nlohmann::json()},
+                      {"W_peak_at_support", l.W_peak_at_support},
                       {"max_displacement", l.quantities.max_displacement},
                       {"supports", {{"fixed", support_extent_json(l.fixed)}, {"clamped", support_extent_json(l.clamped)}}},
                       {"newton_iterations", l.newton_iterations >= 0 ? nlohmann::json(l.newton_iterations) : nlohmann::json()},
@@ -269,6 +369,7 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
           {"estimated_error", number_or_null(e.estimated_error)},
           {"compliance_change", number_or_null(e.compliance_change)},
           {"W_max_change", number_or_null(e.W_max_change)},
+          {"W_peak_change", number_or_null(e.W_peak_change)},
           {"max_displacement_change", number_or_null(e.max_displacement_change)},
           {"support_change", number_or_null(e.support_change)},
           {"support_tolerance", e.support_tolerance},

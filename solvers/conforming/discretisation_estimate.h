@@ -126,6 +126,11 @@ struct DiscretisationLevel {
   /// from rest); −1 and false for h, which is solved elsewhere.
   int newton_iterations = -1;
   bool warm_started = false;
+  /// Where W_peak is on this level (the centroid of its face, m; NaN where not read) and whether
+  /// that face touches a supported vertex (held along any axis): at a clamped corner or a point
+  /// support the exact energy density may be singular, and a maximum there need not converge.
+  Vec3 W_peak_position = Vec3::Constant(NAN);
+  bool W_peak_at_support = false;
 };
 
 struct DiscretisationEstimate {
@@ -136,6 +141,10 @@ struct DiscretisationEstimate {
   double estimated_error = NAN;             ///< of C_h (see the file comment)
   double compliance_change = NAN;           ///< |C_h − C_{h/2}| / |C_{h/2}|
   double W_max_change = NAN;                ///< |W_h − W_{h/2}| / W_{h/2}
+  /// |W_peak,h − W_peak,h/2| / W_peak,h/2 (the ligament peak, read with the coarse run's factors on
+  /// every level); NaN without peak inputs or concentration factors.
+  double W_peak_change = NAN;
+  bool W_peak_levels = false;               ///< the levels' W_peak was read (peak inputs given)
   double max_displacement_change = NAN;     ///< the same for the largest displacement
   double support_change = NAN;              ///< largest support_extent_change of a level from h
   double tolerance = kDiscretisationTolerance;
@@ -167,24 +176,45 @@ using FillRatiosOnMesh = std::function<Eigen::VectorXd(const SurfaceMesh&)>;
 FillRatiosOnMesh coarse_fill_ratios_on(const SurfaceMesh& coarse, Eigen::VectorXd alpha,
                                        Eigen::VectorXd resolution = {}, FillRatiosOnMesh own_on = {});
 
+/// What W_peak reads on a mesh besides its fill ratios (summarize_equilibrium's concentration
+/// weight and the stencils' cover by shape), #F of the mesh each; an empty member is not given.
+struct PeakInputs {
+  Eigen::VectorXd weight;
+  ShapeCover cover;
+};
+using PeakInputsOnMesh = std::function<PeakInputs(const SurfaceMesh&)>;
+
+/// The coarse run's W_peak inputs (`weight`, `cover`: #F of `coarse`, either null) on a refined mesh,
+/// carried as coarse_fill_ratios_on carries α (each a continuous field: vertex means of the faces',
+/// interpolated at the closest point of a refined face's centroid); on `coarse` itself, the inputs.
+/// So every level reads its W with the factors the coarse run read there, and the levels' W_peak
+/// differ by the mesh's error of W where the factors apply (a lattice of holes smaller than the
+/// triangles), and by how well the rim is resolved where they do not (a hole the triangles resolve,
+/// weight 0). `coarse` must outlive the function.
+PeakInputsOnMesh coarse_peak_inputs_on(const SurfaceMesh& coarse, const Eigen::VectorXd* weight,
+                                       const ShapeCover* cover);
+
 /// Solves the scene's shell on the refinements (h/2 and h/4; h/8 where those have not settled and
 /// the budget allows) with the fill ratios `fill_on` gives and `mechanics` (resolved as for the
 /// coarse run, its filter already in the fill ratios), and judges the coarse run's `coarse`
 /// quantities (on `coarse_mesh`, the simulation mesh, of edge length `coarse_edge_length`). With
 /// `coarse_displacement` (#V of coarse_mesh × 3, m: the coarse run's equilibrium) the first refined
 /// level's Newton starts from it carried onto its mesh, and each later level from the last one's.
-/// Throws what the equilibrium throws (SolveError).
+/// With `peak_on` (the W_peak inputs the coarse run read, coarse_peak_inputs_on) each level's W_peak
+/// is read with them and its change from h to h/2 judged (W_peak_change); without it the levels'
+/// W_peak is not reported. Throws what the equilibrium throws (SolveError).
 DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMeshRefinements& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
                                                const SurfaceMesh& coarse_mesh,
-                                               const RowMatX3d* coarse_displacement = nullptr);
+                                               const RowMatX3d* coarse_displacement = nullptr,
+                                               const PeakInputsOnMesh& peak_on = {});
 
 /// report.json's `discretisation` object: method, levels [{edge_length, faces, compliance,
-/// strain_energy, W_max, max_displacement, supports {fixed, clamped: {area, length, points}},
+/// strain_energy, W_max, W_peak (null where not read), max_displacement, supports {fixed, clamped: {area, length, points}},
 /// newton_iterations (null for h), warm_started}],
 /// support_change, supports_consistent, compliance_extrapolated, observed_order,
-/// compliance_error_bar, rule, estimated_error, compliance / W_max / max_displacement changes from h
+/// compliance_error_bar, rule, estimated_error, compliance / W_max / W_peak / max_displacement changes from h
 /// to h/2, tolerance, converged and a one-line `summary` (no times: the report's timings hold
 /// them, so that two runs of one design give the same object).
 nlohmann::json discretisation_json(const DiscretisationEstimate& e);
@@ -194,5 +224,13 @@ nlohmann::json support_extent_json(const SupportExtent& x);
 
 /// One line for a person: the compliance at h and its estimated discretisation error.
 std::string discretisation_line(const DiscretisationEstimate& e);
+
+/// The change of W_peak from h to h/2 above which a run says in a note that its ligament peak is
+/// not converged on the simulation mesh (the zoom's settled change in cutwork verify is the same 5%).
+inline constexpr double kPeakDiscretisationTolerance = 0.05;
+
+/// That note (empty where W_peak_change is within `tolerance` or was not read): the levels' W_peak.
+std::string peak_discretisation_note(const DiscretisationEstimate& e,
+                                     double tolerance = kPeakDiscretisationTolerance);
 
 }  // namespace cutwork::solvers

@@ -14,6 +14,8 @@ DesignState evaluate_design(StencilledShell& shell, const PatternContext& ctx, c
   d.stats = shell.equilibrate();
   d.summary = shell.summary();
   d.displacement = shell.solver().displacements();
+  if (!shell.cell_filter().identity()) d.concentration_weight = shell.cell_filter().blend();
+  if (shell.cover()) d.cover = *shell.cover();
   d.alpha = shell.alpha();
   d.material_fraction = shell.material_fraction();
   if (!layout.empty()) d.overlaps = find_overlaps(ctx.surface(), layout, ctx.settings().s);

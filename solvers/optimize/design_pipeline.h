@@ -74,6 +74,10 @@ struct DesignState {
   EquilibriumSummary summary;        ///< W (#F), W_max, compliance, strain energy, displacement
   EquilibriumStats stats;
   RowMatX3d displacement;            ///< #V×3 (m): the equilibrium's (what a refined mesh's solve starts from)
+  /// What its W_peak was read with besides α (the cell filter's blend, the stencils' cover by
+  /// shape; empty where none): the discretisation estimate reads every level with them.
+  Eigen::VectorXd concentration_weight;
+  ShapeCover cover;
   double material_fraction = 1;      ///< Σ α A / Σ A
   OverlapReport overlaps;            ///< against the scene's safety factor s
 };

@@ -213,13 +213,19 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
         scene, refined,
         coarse_fill_ratios_on(meshes.sim, result.final_design.alpha, filter.resolution(),
                               filter.identity() ? FillRatiosOnMesh() : own_on),
-        mechanics, result.final_design.summary, h, meshes.sim, &result.final_design.displacement);
+        mechanics, result.final_design.summary, h, meshes.sim, &result.final_design.displacement,
+        coarse_peak_inputs_on(meshes.sim,
+                              result.final_design.concentration_weight.size() ? &result.final_design.concentration_weight
+                                                                              : nullptr,
+                              result.final_design.cover.empty() ? nullptr : &result.final_design.cover));
     discretisation = {{"uncut", discretisation_json(uncut)},
                       {"final", discretisation_json(final_design)},
                       {"converged", uncut.converged && final_design.converged},
                       {"tolerance", kDiscretisationTolerance}};
     if (!uncut.converged) info.notes.push_back("uncut shell: " + discretisation_line(uncut));
     if (!final_design.converged) info.notes.push_back("final design: " + discretisation_line(final_design));
+    if (const std::string peak = peak_discretisation_note(final_design); !peak.empty())
+      info.notes.push_back("final design: " + peak);
     info.timings.add("discretisation", sw.seconds());
   }
   // The ligament peak (solvers/objective/ligament_peak.h): the narrow ligaments W_peak cannot see.

@@ -124,6 +124,45 @@ TEST(DiscretisationEstimate, TheCoarseMaterialIsHeldAsAContinuousField) {
   EXPECT_THROW(coarse_fill_ratios_on(sim, alpha, Eigen::VectorXd::Ones(3), own), InternalError);
 }
 
+TEST(DiscretisationEstimate, ThePeakInputsAreCarriedAsTheMaterialIs) {
+  // The concentration weight and the cover by shape (and by corner) go onto a refined mesh as α
+  // does: the coarse mesh gets its own back, a refined one the same continuous fields (here each
+  // column read against coarse_fill_ratios_on's carrying of it), and a constant stays constant.
+  const Scene scene = load_scene("plate");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const SurfaceMesh& sim = meshes.sim;
+  const int nf = sim.num_faces();
+  Eigen::VectorXd weight(nf);
+  ShapeCover cover;
+  cover.covered.resize(nf, 2);
+  cover.corner = Eigen::MatrixXd::Constant(nf, 2, 0.125);
+  for (int f = 0; f < nf; ++f) {
+    weight[f] = 0.5 + 0.5 * std::sin(11.0 * f);
+    cover.covered(f, 0) = 0.2 + 0.1 * std::cos(5.0 * f);
+    cover.covered(f, 1) = 0.05;
+  }
+  const PeakInputsOnMesh carried = coarse_peak_inputs_on(sim, &weight, &cover);
+  const PeakInputs own = carried(sim);
+  EXPECT_EQ(own.weight, weight);
+  EXPECT_EQ(own.cover.covered, cover.covered);
+  EXPECT_EQ(own.cover.corner, cover.corner);
+  const SurfaceMesh half = refine_simulation_mesh(scene, meshes)[0].mesh;
+  const PeakInputs fine = carried(half);
+  ASSERT_EQ(fine.weight.size(), half.num_faces());
+  ASSERT_EQ(fine.cover.covered.rows(), half.num_faces());
+  ASSERT_EQ(fine.cover.corner.cols(), 2);
+  EXPECT_LT((fine.weight - coarse_fill_ratios_on(sim, weight)(half)).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((fine.cover.covered.col(0) - coarse_fill_ratios_on(sim, cover.covered.col(0))(half)).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((fine.cover.covered.col(1).array() - 0.05).abs().maxCoeff(), 1e-15);
+  EXPECT_LT((fine.cover.corner.array() - 0.125).abs().maxCoeff(), 1e-15);
+  // Without a weight or a cover, nothing is carried.
+  const PeakInputs none = coarse_peak_inputs_on(sim, nullptr, nullptr)(half);
+  EXPECT_EQ(none.weight.size(), 0);
+  EXPECT_TRUE(none.cover.empty());
+  const Eigen::VectorXd short_weight = weight.head(3);
+  EXPECT_THROW(coarse_peak_inputs_on(sim, &short_weight, nullptr), InternalError);
+}
+
 TEST(DiscretisationEstimate, AMaterialHeldFixedIsJudgedByItsMesh) {
   // The plate cantilever with fill ratios varying along it (0.35–0.95), held on the refinements:
   // at the default 0.01 m the levels are one structure meshed again, and the estimate brackets the
