@@ -106,6 +106,47 @@ TEST(CliSimulate, BadSupportsAndLoadsAreOneLineErrors) {
   fs::remove_all(dir);
 }
 
+// The built-in plate (clamped at x = −0.1, pulled down at the middle of its free side) is
+// symmetric about y = 0, and the generator meshes it symmetrically: its half y ∈ [−0.025, 0.025]
+// (the generator's 0.1 m by 0.05 m plate) on a symmetry plane at y = −0.025, carrying half the
+// force on the half of the load patch on its side, is the whole — the report's compliance half of
+// the whole's (to round-off: the half of the whole's mesh), its discretisation estimate's as well,
+// and report.json names the plane. And a plane through the middle of the whole plate, which the
+// mesh continues across, is refused on one line.
+TEST(CliSimulate, AHalfOnASymmetryPlaneIsHalfTheWhole) {
+  const fs::path dir = test::temp_dir("simulate_half");
+  nlohmann::json half = plate_scene();
+  half["mesh"]["params"]["height"] = 0.05;
+  half["supports"].push_back(
+      {{"type", "symmetry"}, {"axis", "y"}, {"select", {{"entity", "vertices"}, {"y", {{"below", -0.0249999}}}}}});
+  half["loads"][0]["force"] = {0.0, 0.0, -0.5};
+  half["loads"][0]["select"]["near"]["point"] = {0.1, -0.025, 0.0};
+  const fs::path half_file = dir / "half.json";
+  std::ofstream(half_file) << half.dump(2);
+  const auto h = run_cutwork("simulate " + half_file.string() + " --no-render --quiet --out " + (dir / "h").string());
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  const auto w = run_cutwork("simulate plate --no-render --quiet --out " + (dir / "w").string());
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  const auto hr = read_json(dir / "h" / "report.json"), wr = read_json(dir / "w" / "report.json");
+  const double c_half = hr["equilibrium"]["compliance"].get<double>(), c_whole = wr["equilibrium"]["compliance"].get<double>();
+  EXPECT_NEAR(2 * c_half, c_whole, 1e-9 * c_whole);
+  EXPECT_NEAR(hr["equilibrium"]["max_displacement"].get<double>(), wr["equilibrium"]["max_displacement"].get<double>(),
+              1e-9 * wr["equilibrium"]["max_displacement"].get<double>());
+  EXPECT_NEAR(2 * hr["discretisation"]["compliance_extrapolated"].get<double>(),
+              wr["discretisation"]["compliance_extrapolated"].get<double>(),
+              1e-4 * wr["discretisation"]["compliance_extrapolated"].get<double>());
+  EXPECT_EQ(hr["solver"]["symmetry_planes"], nlohmann::json({{"y", -0.025}})) << hr["solver"].dump();
+  EXPECT_EQ(wr["solver"]["symmetry_planes"], nlohmann::json::object());
+
+  nlohmann::json through = plate_scene();
+  through["supports"].push_back(
+      {{"type", "symmetry"}, {"axis", "y"}, {"select", {{"entity", "vertices"}, {"y", {{"above", -1e-9}, {"below", 1e-9}}}}}});
+  const fs::path through_file = dir / "through.json";
+  std::ofstream(through_file) << through.dump(2);
+  expect_failure_without_output("simulate " + through_file.string(), dir / "t", "lies inside the surface");
+  fs::remove_all(dir);
+}
+
 TEST(CliSimulate, StencilsOfADesignReproduceItsEquilibrium) {
   // The pattern design of the plate, then its stencils.json simulated on its own: the same fill
   // ratios, so the same equilibrium as the design's report (Newton-converged, cold vs warm start).
