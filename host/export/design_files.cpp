@@ -6,6 +6,7 @@
 
 #include "host/core/atomic_file.h"
 #include "host/core/error.h"
+#include "host/mesh/mirror.h"
 
 namespace cutwork {
 namespace {
@@ -44,11 +45,27 @@ DesignFiles prepare_design_files(const DesignFileInputs& in, const DesignFileOpt
   d.m_in = in;
   if (in.cut != nullptr && in.fabrication) {
     stage("solid");
+    // The whole a half model stands for: the cut surface and the base mirrored in each symmetry
+    // plane in turn, vertices on a plane shared.
+    RowMatX3d cut_v = in.cut->vertices, base_v = in.base->vertices();
+    RowMatX3i cut_f = in.cut->faces, base_f = in.base->faces();
+    nlohmann::json mirrored = nlohmann::json::array();
+    const double snap = 1e-9 * (in.base->bbox_max() - in.base->bbox_min()).norm();
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(in.symmetry_planes[a])) continue;
+      MirroredMesh c = mirror_across_plane(cut_v, cut_f, a, in.symmetry_planes[a], snap);
+      MirroredMesh b = mirror_across_plane(base_v, base_f, a, in.symmetry_planes[a], snap);
+      cut_v = std::move(c.vertices), cut_f = std::move(c.faces);
+      base_v = std::move(b.vertices), base_f = std::move(b.faces);
+      mirrored.push_back(std::string(1, char('x' + a)));
+    }
     // Offset along the base surface's smooth Phong normals: the cut's sliver triangles along
     // the outlines would otherwise fold the offset where the surface bends (the pavilion's feet).
-    const FaceBvh base_bvh(*in.base);
-    const RowMatX3d normals = surface_normals_at(base_bvh, in.cut->vertices);
-    const Solid solid = thicken_surface(in.cut->vertices, in.cut->faces, in.thickness, &normals);
+    const std::optional<SurfaceMesh> whole_base =
+        mirrored.empty() ? std::nullopt : std::optional<SurfaceMesh>(SurfaceMesh(base_v, base_f, "the mirrored base mesh"));
+    const FaceBvh base_bvh(whole_base ? *whole_base : *in.base);
+    const RowMatX3d normals = surface_normals_at(base_bvh, cut_v);
+    const Solid solid = thicken_surface(cut_v, cut_f, in.thickness, &normals);
     const SolidCheck check = check_solid(solid);
     if (check.valid()) d.m_solid = solid;
     stage("minimum feature");
@@ -57,6 +74,7 @@ DesignFiles prepare_design_files(const DesignFileInputs& in, const DesignFileOpt
     d.m_fabrication["thickness"] = in.thickness;
     d.m_fabrication["min_feature"] = in.min_feature;
     d.m_fabrication["solid"] = solid_json(solid, check, check.valid());
+    d.m_fabrication["solid"]["mirrored"] = mirrored;  // the planes the solid is completed across
     d.m_fabrication["units"] = {{"thickness", "m"}, {"min_feature", "m"}, {"width", "m"}, {"volume", "m^3"},
                                 {"area", "m^2"}, {"files", "mm"}};
   }

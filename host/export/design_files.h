@@ -36,6 +36,12 @@ struct DesignFileInputs {
   bool fabrication = true;
   double thickness = 0;                    ///< material thickness (m), for the solid
   double min_feature = 0.001;              ///< printable minimum (m)
+  /// The symmetry planes the model is a half (or quarter) on (LoadCase::symmetry_planes: x = .x(), …;
+  /// NaN: none). The solid is then the whole: the cut surface completed by its mirror images, each
+  /// plane in turn, thickened along the mirrored base's normals. The minimum-feature check reads the
+  /// modelled part (a margin to the plane counts as one to a boundary: the whole's ligament across
+  /// the plane is twice it).
+  Vec3 symmetry_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 struct DesignFileOptions {

@@ -25,6 +25,12 @@ namespace cutwork::solvers {
 
 namespace {
 
+/// Whether the scene models a half on a symmetry plane (its planes come from resolving it on a mesh).
+bool has_symmetry_plane(const Scene& scene) {
+  return std::any_of(scene.supports.begin(), scene.supports.end(),
+                     [](const SupportSpec& s) { return s.kind == SupportKind::Symmetry; });
+}
+
 using nlohmann::json;
 
 json phase_json(const std::string& name, int iterations, int evaluations, int rounds, double seconds,
@@ -188,9 +194,7 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
   out.cut = cut_with_tool(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), final_params,
                           scene.fabrication.tool_radius);
   info.timings.add("cut", sw.seconds());
-  if (std::any_of(scene.supports.begin(), scene.supports.end(),
-                  [](const SupportSpec& s) { return s.kind == SupportKind::Symmetry; }))
-    symmetry_plane_notes(resolve_load_case(scene, meshes.sim), final_params, info.notes);
+  if (has_symmetry_plane(scene)) symmetry_plane_notes(resolve_load_case(scene, meshes.sim), final_params, info.notes);
   json discretisation = nullptr;
   if (info.discretisation_estimate) {
     sw.restart();
@@ -319,6 +323,7 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
   in.cut = &cut;
   in.thickness = scene.material.thickness;
   in.min_feature = scene.fabrication.min_feature;
+  if (has_symmetry_plane(scene)) in.symmetry_planes = resolve_load_case(scene, meshes.sim).symmetry_planes;
   return in;
 }
 

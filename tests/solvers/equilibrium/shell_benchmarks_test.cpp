@@ -35,6 +35,7 @@
 
 #include "host/core/error.h"
 #include "host/mesh/mesh_io.h"
+#include "host/mesh/mirror.h"
 #include "host/mesh/union_jack_flips.h"
 #include "host/scene/scene.h"
 #include "solvers/conforming/simulation_mesh_choice.h"
@@ -316,32 +317,12 @@ TEST(ShellBenchmarks, ScordelisLoRoofFromAScene) {
 
 // ---- symmetry planes -----------------------------------------------------------------------------
 
-/// The whole of `half` and its mirror image in the plane x_axis = 0: the half's vertices, then the
-/// images of those off the plane; the mirrored faces turned to face the same side. `image` (#V of
-/// half) gets each vertex's image in the whole (itself on the plane).
+/// The whole of `half` and its mirror image in the plane x_axis = 0 (host/mesh/mirror.h). `image`
+/// (#V of half) gets each vertex's image in the whole (itself on the plane).
 SurfaceMesh mirrored_whole(const SurfaceMesh& half, int axis, std::vector<int>* image) {
-  const RowMatX3d& X = half.vertices();
-  std::vector<Vec3> verts;
-  for (int v = 0; v < half.num_vertices(); ++v) verts.push_back(X.row(v).transpose());
-  image->assign(std::size_t(half.num_vertices()), -1);
-  for (int v = 0; v < half.num_vertices(); ++v) {
-    if (std::abs(X(v, axis)) < 1e-12) {
-      (*image)[std::size_t(v)] = v;
-      continue;
-    }
-    (*image)[std::size_t(v)] = int(verts.size());
-    Vec3 m = X.row(v).transpose();
-    m[axis] = -m[axis];
-    verts.push_back(m);
-  }
-  const RowMatX3i& F = half.faces();
-  std::vector<Eigen::Vector3i> faces;
-  for (int f = 0; f < half.num_faces(); ++f) faces.emplace_back(F(f, 0), F(f, 1), F(f, 2));
-  for (int f = 0; f < half.num_faces(); ++f) {
-    const auto at = [&](int k) { return (*image)[std::size_t(F(f, k))]; };
-    faces.emplace_back(at(0), at(2), at(1));
-  }
-  return mesh_of(verts, faces, "whole");
+  MirroredMesh m = mirror_across_plane(half.vertices(), half.faces(), axis, 0.0, 1e-12);
+  *image = std::move(m.image);
+  return SurfaceMesh(m.vertices, m.faces, "whole");
 }
 
 /// Marks the vertices of `mesh` on the plane x_axis = 0 as lying on a symmetry plane (held along axis).
