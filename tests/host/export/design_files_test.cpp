@@ -27,13 +27,8 @@ TEST(DesignFiles, AQuarterOnTwoSymmetryPlanesIsPrintedWhole) {
   StencilLibrary shapes;
   shapes.add(make_builtin_stencil("circle", {}, "circle"));
   const AxisTangentField field;
-  std::vector<StencilParams> stencils;
-  for (int i = 0; i < 3; ++i) {
-    StencilParams p;
-    p.position = Vec3(-0.08 + 0.03 * i, -0.025, 0);
-    p.scale = 0.008;
-    stencils.push_back(p);
-  }
+  const std::vector<StencilParams> stencils = {{Vec3(-0.08, -0.025, 0), 0.008}, {Vec3(-0.05, -0.025, 0), 0.008},
+                                                {Vec3(-0.02, -0.025, 0), 0.008}};
   const CutSurface cut = cut_stencils(bvh, shapes, field, stencils);
   DesignFileInputs in;
   in.title = "quarter";

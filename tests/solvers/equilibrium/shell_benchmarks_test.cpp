@@ -168,6 +168,17 @@ RowMatX3d traction_forces(const SurfaceMesh& mesh, const Vec3& q) {
   return f;
 }
 
+/// A shell along y between rigid diaphragms at |y| = half_length (held along x and z, free along y),
+/// no loads yet.
+LoadCase on_diaphragms(const SurfaceMesh& mesh, double half_length) {
+  LoadCase lc;
+  lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (std::abs(std::abs(mesh.vertices()(v, 1)) - half_length) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
+  return lc;
+}
+
 struct Row {
   int faces = 0;
   double value = 0;
@@ -250,10 +261,7 @@ double scordelis_lo(int n, Pattern pattern, int subdivisions, int* faces) {
   if (subdivisions < 0) mesh = flip_union_jack_diagonals(mesh).mesh;  // −1: the diagonals turned one way
   for (int k = 0; k < subdivisions; ++k) mesh = midpoint_subdivision(mesh);
   *faces = mesh.num_faces();
-  LoadCase lc;
-  lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
-  for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (std::abs(std::abs(mesh.vertices()(v, 1)) - L / 2) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+  LoadCase lc = on_diaphragms(mesh, L / 2);
   // The axial translation: u_y is odd in y, zero across the middle.
   lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(0, 0, R)))] = kHeldY;
   lc.forces = traction_forces(mesh, Vec3(0, 0, -90));
@@ -411,10 +419,7 @@ double scordelis_lo_quarter(int n, int* faces, double* whole = nullptr, double s
   *faces = quarter.num_faces();
   const Material material = benchmark_material(4.32e8, 0, 0.25);
   const auto diaphragms = [&](const SurfaceMesh& mesh) {
-    LoadCase lc;
-    lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
-    for (int v = 0; v < mesh.num_vertices(); ++v)
-      if (std::abs(std::abs(mesh.vertices()(v, 1)) - L / 2) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+    LoadCase lc = on_diaphragms(mesh, L / 2);
     lc.forces = traction_forces(mesh, Vec3(0, 0, -90));
     return lc;
   };
@@ -586,13 +591,9 @@ double pinched_cylinder(int n, Pattern pattern, int* faces) {
     return Vec3(R * std::sin(theta), y, R * std::cos(theta));
   }, "pinched cylinder", pattern);
   *faces = mesh.num_faces();
-  LoadCase lc;
-  lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
-  for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (std::abs(std::abs(mesh.vertices()(v, 1)) - L / 2) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
+  LoadCase lc = on_diaphragms(mesh, L / 2);
   lc.held_axes[std::size_t(nearest_vertex(mesh, Vec3(R, 0, 0)))] = kHeldY;  // u_y is odd in y
   const int top = nearest_vertex(mesh, Vec3(0, 0, R)), bottom = nearest_vertex(mesh, Vec3(0, 0, -R));
-  lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
   lc.forces(top, 2) = -1;
   lc.forces(bottom, 2) = 1;
   const RowMatX3d u = linear_displacements(mesh, benchmark_material(3e6, 0.3, 3), lc, 1e-3);
@@ -619,15 +620,7 @@ TEST(ShellBenchmarks, ThreeSymmetryPlanesSolveTheirMirroredWhole) {
     return Vec3(R * std::sin(theta), y, R * std::cos(theta));
   }, "pinched cylinder's octant");
   const Material material = benchmark_material(3e6, 0.3, 3);
-  const auto diaphragms = [&](const SurfaceMesh& mesh) {
-    LoadCase lc;
-    lc.held_axes.assign(std::size_t(mesh.num_vertices()), 0);
-    for (int v = 0; v < mesh.num_vertices(); ++v)
-      if (std::abs(std::abs(mesh.vertices()(v, 1)) - L / 2) < 1e-9) lc.held_axes[std::size_t(v)] = kHeldX | kHeldZ;
-    lc.forces = RowMatX3d::Zero(mesh.num_vertices(), 3);
-    return lc;
-  };
-  LoadCase lc = diaphragms(octant);
+  LoadCase lc = on_diaphragms(octant, L / 2);
   for (int axis : {0, 1, 2}) add_symmetry(lc, octant, axis);
   const int top = nearest_vertex(octant, Vec3(0, 0, R));
   lc.forces(top, 2) = -0.25;
@@ -636,7 +629,7 @@ TEST(ShellBenchmarks, ThreeSymmetryPlanesSolveTheirMirroredWhole) {
   SurfaceMesh whole = mirrored_whole(octant, 0, &image);
   whole = mirrored_whole(whole, 1, &image);
   whole = mirrored_whole(whole, 2, &image);
-  LoadCase w = diaphragms(whole);
+  LoadCase w = on_diaphragms(whole, L / 2);
   w.held_axes[std::size_t(nearest_vertex(whole, Vec3(R, 0, 0)))] |= kHeldY;  // u_y is odd in y
   const int whole_top = nearest_vertex(whole, Vec3(0, 0, R)), bottom = nearest_vertex(whole, Vec3(0, 0, -R));
   w.forces(whole_top, 2) = -1;

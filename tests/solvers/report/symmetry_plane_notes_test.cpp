@@ -11,20 +11,13 @@
 namespace cutwork::solvers {
 namespace {
 
-StencilParams stencil_at(double x, double y, double scale) {
-  StencilParams s;
-  s.position = Vec3(x, y, 0);
-  s.scale = scale;
-  return s;
-}
-
 TEST(SymmetryPlaneNotes, NameThePlaneAndTheStencilsThatReachOverIt) {
   LoadCase lc;
   lc.symmetry_planes.y() = -0.025;
   const std::vector<StencilParams> stencils = {
-      stencil_at(0.0, -0.0240, 0.0012),   // reaches over y = −0.025 (1 mm away, 1.2 mm radius)
-      stencil_at(0.01, -0.0260, 0.0012),  // its centre beyond the plane: over it too
-      stencil_at(0.02, -0.0230, 0.0012),  // 2 mm away: clear of it
+      {Vec3(0.0, -0.0240, 0), 0.0012},   // reaches over y = −0.025 (1 mm away, 1.2 mm radius)
+      {Vec3(0.01, -0.0260, 0), 0.0012},  // its centre beyond the plane: over it too
+      {Vec3(0.02, -0.0230, 0), 0.0012},  // 2 mm away: clear of it
   };
   std::vector<std::string> notes;
   symmetry_plane_notes(lc, stencils, notes);
