@@ -349,7 +349,7 @@ CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, cons
   std::vector<bool> at_clamp(size_t(nf), false);
   for (int t = 0; t < nf; ++t)
     for (int k = 0; k < 3; ++k) at_clamp[size_t(t)] = at_clamp[size_t(t)] || load_case.clamped[size_t(F(t, k))];
-  return CellFilter(sim, spacing, diameter, &at_clamp);
+  return CellFilter(sim, spacing, diameter, &at_clamp, load_case.symmetry_planes);
 }
 
 }  // namespace cutwork::solvers

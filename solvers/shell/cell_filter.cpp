@@ -19,7 +19,7 @@ double cell_filter_blend(double edge_over_diameter) {
 }
 
 CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, const Eigen::VectorXd& diameter,
-                       const std::vector<bool>* keep_own) {
+                       const std::vector<bool>* keep_own, const Vec3& mirror_planes) {
   const int nf = mesh.num_faces();
   if (spacing.size() != nf || diameter.size() != nf || (keep_own && int(keep_own->size()) != nf))
     throw InputError(fmt::format("cell filter: {} spacings, {} diameters and {} marks for {} faces", spacing.size(),
@@ -59,6 +59,23 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
       }
       const double R = std::max(spacing[t], h);
       const Vec3 ct = centroid.row(t).transpose();
+      // The cone's centre and its images in the symmetry planes (every combination of them: a
+      // quarter's corner has three), where they come within R of the half.
+      std::vector<Vec3> centres = {ct};
+      for (int a = 0; a < 3; ++a) {
+        if (!std::isfinite(mirror_planes[a]) || std::abs(ct[a] - mirror_planes[a]) >= R) continue;
+        const std::size_t n = centres.size();
+        for (std::size_t i = 0; i < n; ++i) {
+          Vec3 image = centres[i];
+          image[a] = 2 * mirror_planes[a] - image[a];
+          centres.push_back(image);
+        }
+      }
+      const auto within = [&](const Vec3& c) {
+        for (const Vec3& p : centres)
+          if ((c - p).norm() < R) return true;
+        return false;
+      };
       // Faces reached across edges whose centroids lie within R (a connected neighbourhood).
       stack.assign(1, t);
       visited.assign(1, t);
@@ -70,7 +87,8 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
         stack.pop_back();
         // A marked face's material is its own: no other face's cell counts it (the file comment).
         if (s == t || !(keep_own && (*keep_own)[size_t(s)])) {
-          const double w = area[s] * (1 - (centroid.row(s).transpose() - ct).norm() / R);
+          double w = 0;
+          for (const Vec3& p : centres) w += area[s] * std::max(0.0, 1 - (centroid.row(s).transpose() - p).norm() / R);
           weights.emplace_back(s, w);
           total += w;
         }
@@ -81,7 +99,7 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
             if (n < 0 || seen[size_t(n)]) continue;
             seen[size_t(n)] = 1;
             visited.push_back(n);
-            if ((centroid.row(n).transpose() - ct).norm() < R) stack.push_back(n);
+            if (within(centroid.row(n).transpose())) stack.push_back(n);
           }
         }
       }

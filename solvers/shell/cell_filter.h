@@ -56,12 +56,18 @@
 /// cantilever to 0.980 / 1.001, and both ways it helped the square lattice pulled at 45° by 4% and
 /// cost the bent hexagonal plates 1–2% (measured, not adopted).
 ///
+/// Across a symmetry plane (the mesh a half model's, LoadCase::symmetry_axes) the filter does not
+/// stop: the cone reaches into the mirror image, whose faces are the half's own reflected (the
+/// design is symmetric), so the faces beside the plane average over the same cell as the whole's
+/// do (CellFilter.AHalfOnASymmetryPlaneFiltersAsTheWhole, to round-off).
+///
 /// B is a convex combination per row, so ᾱ ∈ [min α, max α] and B·1 = 1 (an uncut shell is
 /// unchanged). It does not depend on the stencils (a_t, d_t are the pattern's nominal spacing
 /// and size, not the current stencils'), so dᾱ/dp = B dα/dp exactly and a gradient pulls back
 /// through Bᵀ. B does not conserve Σ A α exactly near borders and where the faces' sizes change
 /// (the row weights are normalised per row); the area a design removes is measured with the
 /// unfiltered α.
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -81,8 +87,13 @@ class CellFilter {
   /// `keep_own` (#F, optional) keep their own α (b_t = 0) and are left out of every other face's
   /// average (a column of B with its diagonal entry only). Throws InputError for sizes that do not
   /// match or values that are not finite and positive.
+  /// `mirror_planes` (LoadCase::symmetry_planes: x = .x(), …; NaN where none): the mesh is the half
+  /// (or quarter) of a whole completed by its mirror images in those planes, and a face's cone counts
+  /// the images of the faces as the whole's own (each face s weighed once for itself and once per
+  /// image of the cone's centre its centroid lies near), so the half filters as the whole does.
   CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, const Eigen::VectorXd& diameter,
-             const std::vector<bool>* keep_own = nullptr);
+             const std::vector<bool>* keep_own = nullptr,
+             const Vec3& mirror_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
 
   bool identity() const { return m_matrix.rows() == 0; }
   /// ᾱ = B α (a copy of α for the identity).

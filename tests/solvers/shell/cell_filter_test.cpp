@@ -7,6 +7,7 @@
 #include <random>
 
 #include "host/core/error.h"
+#include "host/mesh/mirror.h"
 #include "solvers/shell/cell_filter.h"
 #include "tests/solvers/support/test_meshes.h"
 
@@ -160,6 +161,39 @@ TEST(CellFilter, AnAlternatingPerforationIsAveragedToItsMean) {
   }
   EXPECT_LT(worst, 0.03);
   EXPECT_GT((alpha.array() - 0.55).abs().minCoeff(), 0.4);
+}
+
+// A half on a symmetry plane (and a quarter on two) filters as the whole its mirror images make:
+// on the whole of a jittered half mesh mirrored in y = 0 (then x = 0), with a fill ratio field that
+// is the half's mirrored, the whole's filtered α on the half's faces is the half's with the planes to
+// round-off; without the planes the faces beside them differ (their cones stopped at the plane).
+TEST(CellFilter, AHalfOnASymmetryPlaneFiltersAsTheWhole) {
+  const SurfaceMesh half = test::jittered(test::equilateral_rectangle(0.6, 0.3, 12), 0.2, 5);  // x, y ≥ 0
+  const double h = 0.05;
+  for (int planes : {1, 2}) {
+    SCOPED_TRACE(planes == 1 ? "a half on y = 0" : "a quarter on y = 0 and x = 0");
+    const Vec3 mirror(planes == 2 ? 0.0 : NAN, 0.0, NAN);
+    MirroredMesh m = mirror_across_plane(half.vertices(), half.faces(), 1, 0.0, 1e-12);
+    if (planes == 2) m = mirror_across_plane(m.vertices, m.faces, 0, 0.0, 1e-12);
+    const SurfaceMesh whole(m.vertices, m.faces, "whole");
+    std::mt19937 gen(11);
+    std::uniform_real_distribution<double> u(0.05, 1.0);
+    Eigen::VectorXd alpha(half.num_faces());
+    for (int t = 0; t < half.num_faces(); ++t) alpha[t] = u(gen);
+    // The whole's faces are the half's, then their images (each block a copy of the last).
+    Eigen::VectorXd whole_alpha(whole.num_faces());
+    for (int t = 0; t < whole.num_faces(); ++t) whole_alpha[t] = alpha[t % half.num_faces()];
+    std::vector<bool> keep(size_t(half.num_faces()), false), whole_keep(size_t(whole.num_faces()), false);
+    keep[0] = true;  // a marked face (at a clamp) and its images
+    for (int t = 0; t < whole.num_faces(); t += half.num_faces()) whole_keep[size_t(t)] = true;
+    const Eigen::VectorXd expected =
+        CellFilter(whole, constant(whole, 3 * h), constant(whole, 1.5 * h), &whole_keep).apply(whole_alpha);
+    const Eigen::VectorXd mirrored =
+        CellFilter(half, constant(half, 3 * h), constant(half, 1.5 * h), &keep, mirror).apply(alpha);
+    const Eigen::VectorXd stopped = CellFilter(half, constant(half, 3 * h), constant(half, 1.5 * h), &keep).apply(alpha);
+    EXPECT_LT((mirrored - expected.head(half.num_faces())).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_GT((stopped - expected.head(half.num_faces())).cwiseAbs().maxCoeff(), 1e-3);
+  }
 }
 
 TEST(CellFilter, SheetsCloseInSpaceDoNotMix) {
