@@ -1,6 +1,7 @@
 #include "solvers/shell/cell_filter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -61,19 +62,20 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
       const Vec3 ct = centroid.row(t).transpose();
       // The cone's centre and its images in the symmetry planes (every combination of them: a
       // quarter's corner has three), where they come within R of the half.
-      std::vector<Vec3> centres = {ct};
+      std::array<Vec3, 8> centres;
+      centres[0] = ct;
+      int num_centres = 1;
       for (int a = 0; a < 3; ++a) {
         if (!std::isfinite(mirror_planes[a]) || std::abs(ct[a] - mirror_planes[a]) >= R) continue;
-        const std::size_t n = centres.size();
-        for (std::size_t i = 0; i < n; ++i) {
-          Vec3 image = centres[i];
-          image[a] = 2 * mirror_planes[a] - image[a];
-          centres.push_back(image);
+        for (int i = 0, n = num_centres; i < n; ++i) {
+          centres[size_t(num_centres)] = centres[size_t(i)];
+          centres[size_t(num_centres)][a] = 2 * mirror_planes[a] - centres[size_t(i)][a];
+          ++num_centres;
         }
       }
       const auto within = [&](const Vec3& c) {
-        for (const Vec3& p : centres)
-          if ((c - p).norm() < R) return true;
+        for (int i = 0; i < num_centres; ++i)
+          if ((c - centres[size_t(i)]).norm() < R) return true;
         return false;
       };
       // Faces reached across edges whose centroids lie within R (a connected neighbourhood).
@@ -88,7 +90,8 @@ CellFilter::CellFilter(const SurfaceMesh& mesh, const Eigen::VectorXd& spacing, 
         // A marked face's material is its own: no other face's cell counts it (the file comment).
         if (s == t || !(keep_own && (*keep_own)[size_t(s)])) {
           double w = 0;
-          for (const Vec3& p : centres) w += area[s] * std::max(0.0, 1 - (centroid.row(s).transpose() - p).norm() / R);
+          for (int i = 0; i < num_centres; ++i)
+            w += area[s] * std::max(0.0, 1 - (centroid.row(s).transpose() - centres[size_t(i)]).norm() / R);
           weights.emplace_back(s, w);
           total += w;
         }
