@@ -312,7 +312,8 @@ void add_design_command(CLI::App& app) {
       "structural objective, and write DIR/report.json (objectives, the structure's W_max, W_peak and the narrow "
       "ligaments' W_lig, the discretisation estimate, the stencils' lattice order, timings), stencils.json, fields.ply (per-face alpha and W), "
       "cut.obj (the surface with the stencils cut out), fields.vtu and stencils.vtp (ParaView), cut_solid.stl and "
-      "cut_solid.3mf (the cut surface thickened into a printable solid) and the pictures render_W.png, "
+      "cut_solid.3mf (the cut surface thickened into a printable solid; for a half on symmetry planes, the whole its "
+      "mirror images make) and the pictures render_W.png, "
       "render_alpha.png, render_design.png");
   auto opts = std::make_shared<DesignCommandOptions>();
   add_run_options(*cmd, opts->run, "pavilion");
