@@ -69,7 +69,7 @@ DesignFiles prepare_design_files(const DesignFileInputs& in, const DesignFileOpt
     const SolidCheck check = check_solid(solid);
     if (check.valid()) d.m_solid = solid;
     stage("minimum feature");
-    const MinFeatureReport mf = check_min_feature(*in.cut, *in.base, in.min_feature);
+    const MinFeatureReport mf = check_min_feature(*in.cut, *in.base, in.min_feature, in.symmetry_planes);
     d.m_fabrication = min_feature_json(mf);
     d.m_fabrication["thickness"] = in.thickness;
     d.m_fabrication["min_feature"] = in.min_feature;

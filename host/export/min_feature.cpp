@@ -142,11 +142,46 @@ double loop_distance(const CutSurface& cut, const Loop& a, const Loop& b, double
 
 }  // namespace
 
-MinFeatureReport check_min_feature(const CutSurface& cut, const SurfaceMesh& base, double minimum) {
+MinFeatureReport check_min_feature(const CutSurface& cut, const SurfaceMesh& base, double minimum,
+                                   const Vec3& mirror_planes) {
   MinFeatureReport r;
   r.minimum = minimum;
-  const std::vector<Loop> loops = boundary_loops(cut, base);
+  std::vector<Loop> loops = boundary_loops(cut, base);
   for (const Loop& l : loops) (l.border ? r.borders : r.holes) += 1;
+  // Symmetry planes: the border's edges on a plane are no border; each hole meets its own image.
+  const double tol = 1e-6 * (base.bbox_max() - base.bbox_min()).norm();
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(mirror_planes[a])) continue;
+    const double c = mirror_planes[a];
+    for (int li = 0; li < int(loops.size()); ++li) {
+      Loop& l = loops[size_t(li)];
+      if (l.border) {
+        Loop kept;
+        kept.border = true;
+        for (size_t e = 0; e < l.edges.size(); ++e) {
+          const auto& [u, v] = l.edges[e];
+          if (std::abs(cut.vertices(u, a) - c) <= tol && std::abs(cut.vertices(v, a) - c) <= tol) continue;
+          kept.edges.push_back(l.edges[e]);
+          kept.edge_faces.push_back(l.edge_faces[e]);
+          kept.box.extend(cut.vertices.row(u).transpose());
+          kept.box.extend(cut.vertices.row(v).transpose());
+        }
+        l = std::move(kept);
+        continue;
+      }
+      // The nearest point of a polyline to a plane is one of its vertices.
+      int nearest = -1;
+      for (const auto& e : l.edges)
+        if (nearest < 0 || std::abs(cut.vertices(e[0], a) - c) < std::abs(cut.vertices(nearest, a) - c)) nearest = e[0];
+      if (nearest < 0) continue;
+      const Vec3 p = cut.vertices.row(nearest).transpose();
+      Vec3 q = p;
+      q[a] = 2 * c - p[a];
+      const double width = (p - q).norm();
+      r.narrowest_between_stencils = std::min(r.narrowest_between_stencils, width);
+      if (width < minimum) r.violations.push_back({"stencils", width, p, q, li, li});
+    }
+  }
   struct Pair {
     int a, b;
     double lower;

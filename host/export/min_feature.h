@@ -72,7 +72,13 @@ std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& b
 
 /// Checks the cut surface `cut` of `base` against `minimum` (m, ≥ 0). The vertices of `cut`
 /// that come from base vertices (CutSurface::source_vertex) tell which loops are the border.
-MinFeatureReport check_min_feature(const CutSurface& cut, const SurfaceMesh& base, double minimum);
+/// `mirror_planes` (LoadCase::symmetry_planes: x = .x(), …; NaN where none): `base` is the half
+/// (quarter) of a whole on those planes. The border's edges on a plane are then no border (the
+/// material goes on across it), and each hole has a ligament to its own mirror image, twice its
+/// distance to the plane ("stencils", the second point the image of the first). A hole and
+/// another's image are never nearer than the two holes, so no other pair is added.
+MinFeatureReport check_min_feature(const CutSurface& cut, const SurfaceMesh& base, double minimum,
+                                   const Vec3& mirror_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
 
 /// Distance between segments [p0, p1] and [q0, q1], with the closest points (exact for
 /// degenerate segments too).

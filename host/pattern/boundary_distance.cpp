@@ -20,7 +20,7 @@ uint64_t BoundaryPolylines::key(int64_t x, int64_t y, int64_t z) {
   return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
 }
 
-BoundaryPolylines::BoundaryPolylines(const SurfaceMesh& mesh, double cell_size)
+BoundaryPolylines::BoundaryPolylines(const SurfaceMesh& mesh, double cell_size, const PatternMirror* mirror)
     : m_cell(cell_size > 0 && std::isfinite(cell_size) ? cell_size : 1.0) {
   // Face normal on the surface side of each directed boundary edge (u -> v as the loop walks).
   const RowMatX3i& faces = mesh.faces();
@@ -56,6 +56,27 @@ BoundaryPolylines::BoundaryPolylines(const SurfaceMesh& mesh, double cell_size)
       m_segments.push_back(s);
     }
     ++loop_index;
+  }
+  if (mirror && mirror->any()) {
+    const double tol = 1e-6 * (mesh.bbox_max() - mesh.bbox_min()).norm();
+    std::vector<int> renumber(m_segments.size(), -1);
+    std::vector<Segment> kept;
+    for (size_t i = 0; i < m_segments.size(); ++i) {
+      const Segment& s = m_segments[i];
+      bool on_plane = false;
+      for (int a = 0; a < 3; ++a)
+        on_plane = on_plane || (mirror->has_plane(a) && std::abs(s.a[a] - mirror->planes()[a]) <= tol &&
+                                std::abs(s.b[a] - mirror->planes()[a]) <= tol);
+      if (on_plane) continue;
+      renumber[i] = int(kept.size());
+      kept.push_back(s);
+    }
+    for (size_t i = 0; i < kept.size(); ++i) {
+      Segment& s = kept[i];
+      s.prev = renumber[size_t(s.prev)] >= 0 ? renumber[size_t(s.prev)] : int(i);
+      s.next = renumber[size_t(s.next)] >= 0 ? renumber[size_t(s.next)] : int(i);
+    }
+    m_segments = std::move(kept);
   }
   for (int i = 0; i < int(m_segments.size()); ++i) {
     const Segment& s = m_segments[size_t(i)];

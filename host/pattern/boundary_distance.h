@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "host/mesh/surface_mesh.h"
+#include "host/pattern/pattern_mirror.h"
 
 namespace cutwork {
 
@@ -42,8 +43,11 @@ class BoundaryPolylines {
 
   BoundaryPolylines() = default;
   /// Collects the boundary loops of `mesh`; `cell_size` (m, > 0) sets the bucket size, best
-  /// about the largest query radius.
-  BoundaryPolylines(const SurfaceMesh& mesh, double cell_size);
+  /// about the largest query radius. Segments with both ends on a symmetry plane of `mirror`
+  /// (nullable; within 1e-6 of the mesh's bounding-box diagonal) are left out: the plane is no edge
+  /// of the whole the mesh is a part of (pattern_mirror.h). A segment whose neighbour in the loop
+  /// was left out takes its own inward direction at that end.
+  BoundaryPolylines(const SurfaceMesh& mesh, double cell_size, const PatternMirror* mirror = nullptr);
 
   const std::vector<Segment>& segments() const { return m_segments; }
   bool empty() const { return m_segments.empty(); }

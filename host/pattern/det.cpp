@@ -340,11 +340,17 @@ class Grower {
     if ((cp.point - x).norm() > max_offset) return -1;  // fell off the surface or onto another sheet
     const double f = m_options.overlap_factor * (1 + m_ex.settings().safety);
     if (m_surface.boundary_distance(cp.point, f * scale) < f * scale) return -1;
-    m_grid.in_ball(cp.point, std::max(f * (scale + m_rmax), min_distance), m_near);
-    for (int j : m_near) {
-      const double d = (m_layout[size_t(j)].position - cp.point).norm();
-      if (d < f * (scale + m_layout[size_t(j)].scale)) return -1;
-      if (d < min_distance) return -1;
+    // Against the stencils and, across symmetry planes, their images and its own (pattern_mirror.h).
+    const PatternMirror& mirror = m_surface.mirror();
+    for (int k = -1; k < mirror.num_reflections(); ++k) {
+      const Vec3 y = k < 0 ? cp.point : mirror.image(cp.point, k);
+      if (k >= 0 && (y - cp.point).norm() < std::max(2 * f * scale, min_distance)) return -1;
+      m_grid.in_ball(y, std::max(f * (scale + m_rmax), min_distance), m_near);
+      for (int j : m_near) {
+        const double d = (m_layout[size_t(j)].position - y).norm();
+        if (d < f * (scale + m_layout[size_t(j)].scale)) return -1;
+        if (d < min_distance) return -1;
+      }
     }
     m_layout.push_back({cp.point, cp.where, scale, angle, type});
     m_rmax = std::max(m_rmax, scale);
@@ -420,8 +426,13 @@ DetGrowthReport det_grow(const DetExemplar& ex, const PatternSurface& surface,
     const Vec3 c = mesh.point(where);
     const double sigma = st.sigma * surface.sizing_at(where);
     const double hole = 1.5 * sigma * ex.covering_radius();
-    grower.grid().in_ball(c, hole, near);
-    if (!near.empty()) continue;
+    // Covered by a stencil or, across a symmetry plane, by an image.
+    bool covered = false;
+    for (int k = -1; !covered && k < surface.mirror().num_reflections(); ++k) {
+      grower.grid().in_ball(k < 0 ? c : surface.mirror().image(c, k), hole, near);
+      covered = !near.empty();
+    }
+    if (covered) continue;
     // A gap along the open boundary is where the pattern ends, not a hole: the growth reached
     // it and nothing more fits there.
     if (surface.boundary_distance(c, hole) < hole) continue;

@@ -11,8 +11,17 @@ namespace cutwork {
 namespace {
 
 OverlapReport check(const PatternSurface& surface, const StencilLayout& layout, double safety, double gap,
-                    const std::vector<PointPair>& candidates, bool brute) {
+                    const std::vector<PointPair>& candidates, const std::vector<ImagePair>& images,
+                    bool brute) {
   OverlapReport rep;
+  for (const ImagePair& p : images) {
+    if (p.i > p.j) continue;  // (i, g j) and (j, g i) are one pair of the whole
+    const double need = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale) + gap;
+    if (need > p.distance) {
+      ++rep.images;
+      rep.worst = std::max(rep.worst, (need - p.distance) / need);
+    }
+  }
   for (const PointPair& p : candidates) {
     const double need = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale) + gap;
     const double d = (layout[size_t(p.i)].position - layout[size_t(p.j)].position).norm();
@@ -45,13 +54,16 @@ OverlapReport find_overlaps(const PatternSurface& surface, const StencilLayout& 
                             double safety, double gap) {
   const double reach = max_reach(layout, safety, gap);
   const RowMatX3d pos = layout_positions(layout);
-  return check(surface, layout, safety, gap, PointGrid(pos, reach).pairs_within(reach), false);
+  return check(surface, layout, safety, gap, PointGrid(pos, reach).pairs_within(reach),
+               image_pairs(surface.mirror(), pos, reach), false);
 }
 
 OverlapReport find_overlaps_brute_force(const PatternSurface& surface, const StencilLayout& layout,
                                         double safety, double gap) {
   const RowMatX3d pos = layout_positions(layout);
-  return check(surface, layout, safety, gap, pairs_within_brute_force(pos, max_reach(layout, safety, gap)), true);
+  const double reach = max_reach(layout, safety, gap);
+  return check(surface, layout, safety, gap, pairs_within_brute_force(pos, reach),
+               image_pairs_brute_force(surface.mirror(), pos, reach), true);
 }
 
 int resolve_overlaps(const PatternSurface& surface, StencilLayout& layout, double safety,
@@ -61,6 +73,15 @@ int resolve_overlaps(const PatternSurface& surface, StencilLayout& layout, doubl
   const RowMatX3d pos = layout_positions(layout);
   std::vector<double> factor(size_t(S), 1.0);
   for (const PointPair& p : PointGrid(pos, reach).pairs_within(reach)) {
+    const double circles = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale);
+    if (circles + gap > p.distance) {
+      const double f = std::max(0.0, p.distance - gap) / circles;
+      factor[size_t(p.i)] = std::min(factor[size_t(p.i)], f);
+      factor[size_t(p.j)] = std::min(factor[size_t(p.j)], f);
+    }
+  }
+  // The images across symmetry planes (a stencil's own image included): the same rule.
+  for (const ImagePair& p : image_pairs(surface.mirror(), pos, reach)) {
     const double circles = (1 + safety) * (layout[size_t(p.i)].scale + layout[size_t(p.j)].scale);
     if (circles + gap > p.distance) {
       const double f = std::max(0.0, p.distance - gap) / circles;

@@ -6,7 +6,9 @@
 /// and the border: the fabrication minimum feature as a hard constraint (outlines lie inside their
 /// bounding circles, so the ligament between two holes is at least g wherever the chord between
 /// the centres measures the distance). The penalties of the objectives leave a residue of order
-/// 1/w_collision; resolve_overlaps removes it exactly.
+/// 1/w_collision; resolve_overlaps removes it exactly. On symmetry planes (PatternSurface::mirror) the
+/// pair condition holds between every stencil and every mirror image, its own included — so a
+/// stencil keeps (1+s) r + g/2 from a plane — and the planes are no boundary.
 #include "host/pattern/pattern_surface.h"
 
 namespace cutwork {
@@ -14,8 +16,10 @@ namespace cutwork {
 struct OverlapReport {
   int pairs = 0;            ///< stencil pairs violating the pair condition
   int boundary = 0;         ///< stencils violating the boundary condition
+  int images = 0;           ///< pairs of a stencil and an image across symmetry planes (its own
+                            ///< included) violating the pair condition (pattern_mirror.h)
   double worst = 0;         ///< largest violation relative to the required distance (0: none)
-  bool any() const { return pairs > 0 || boundary > 0; }
+  bool any() const { return pairs > 0 || boundary > 0 || images > 0; }
 };
 
 /// Checks a layout (uniform grid for the pairs).

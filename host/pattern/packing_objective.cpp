@@ -6,27 +6,62 @@
 
 namespace cutwork {
 
+namespace {
+
+/// One pair's collision (1) at centre distance d (m) and radii sum: the value (ℓ² units) and its
+/// derivatives by d and by either radius.
+struct PairTerm {
+  double value = 0, d_distance = 0, d_radius = 0;
+};
+
+PairTerm collision_pair(double d, double radii, double safety, double gap, double inv) {
+  const double g = ((1 + safety) * radii + gap - d) * inv;
+  if (!(g > 0)) return {};
+  // ∂O/∂r = 2g(1+s)/ℓ, ∂O/∂d = −2g/ℓ.
+  return {g * g, -2 * g * inv, 2 * g * (1 + safety) * inv};
+}
+
+/// Repulsion (3) at centre distance d (m); zero at and beyond ε and at d = 0.
+PairTerm repulsion_pair(double d_m, double epsilon, double inv) {
+  const double eps = epsilon * inv, d = d_m * inv;
+  if (!(d < eps) || !(d > 0)) return {};
+  const double c = 1.0 / (eps * std::sqrt(2 * std::numbers::pi));
+  const double shift = c * std::exp(-0.5) / (eps * eps);  // w(ε)/ε²
+  const double w = c * std::exp(-d * d / (2 * eps * eps));
+  // dO/dd = w'/d² − 2w/d³ with w' = −d w / ε² (d in ℓ units).
+  const double dOdd = -w / (eps * eps * d) - 2 * w / (d * d * d);
+  return {w / (d * d) - shift, dOdd * inv, 0};
+}
+
+/// Adds a pair term between points a and b (b = F c_j + const, F = diag(flip)) to the gradients
+/// of stencils i (a) and j (b), times `weight`.
+void add_pair(const PairTerm& t, const Vec3& a, const Vec3& b, const Vec3& flip, int i, int j, double weight,
+              RowMatX3d* d_positions, Eigen::VectorXd* d_scales) {
+  if (d_scales && t.d_radius != 0) {
+    (*d_scales)[i] += weight * t.d_radius;
+    (*d_scales)[j] += weight * t.d_radius;
+  }
+  const Vec3 ab = a - b;
+  const double d = ab.norm();
+  if (d_positions && d > 0 && t.d_distance != 0) {
+    const Vec3 ga = (weight * t.d_distance / d) * ab;
+    d_positions->row(i) += ga.transpose();
+    d_positions->row(j) -= flip.cwiseProduct(ga).transpose();
+  }
+}
+
+}  // namespace
+
 double collision_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                            double safety, double unit, const std::vector<PointPair>& candidates,
                            RowMatX3d* d_positions, Eigen::VectorXd* d_scales, double gap) {
   const double inv = 1.0 / unit;
   double value = 0;
   for (const PointPair& pr : candidates) {
-    const Vec3 dq = (positions.row(pr.i) - positions.row(pr.j)).transpose();
-    const double d = dq.norm();
-    const double g = ((1 + safety) * (scales[pr.i] + scales[pr.j]) + gap - d) * inv;
-    if (!(g > 0)) continue;
-    value += g * g;
-    // ∂O/∂r_i = 2g(1+s)/ℓ, ∂O/∂q_i = −2g/ℓ · (q_i − q_j)/d.
-    if (d_scales) {
-      (*d_scales)[pr.i] += 2 * g * (1 + safety) * inv;
-      (*d_scales)[pr.j] += 2 * g * (1 + safety) * inv;
-    }
-    if (d_positions && d > 0) {
-      const Vec3 gq = (-2 * g * inv / d) * dq;
-      d_positions->row(pr.i) += gq.transpose();
-      d_positions->row(pr.j) -= gq.transpose();
-    }
+    const Vec3 a = positions.row(pr.i).transpose(), b = positions.row(pr.j).transpose();
+    const PairTerm t = collision_pair((a - b).norm(), scales[pr.i] + scales[pr.j], safety, gap, inv);
+    value += t.value;
+    add_pair(t, a, b, Vec3::Ones(), pr.i, pr.j, 1.0, d_positions, d_scales);
   }
   return value;
 }
@@ -55,23 +90,64 @@ double boundary_collision_objective(const RowMatX3d& positions, const Eigen::Vec
 double repulsion_objective(const RowMatX3d& positions, double epsilon, double unit,
                            const std::vector<PointPair>& candidates, RowMatX3d* d_positions) {
   const double inv = 1.0 / unit;
-  const double eps = epsilon * inv;
-  const double c = 1.0 / (eps * std::sqrt(2 * std::numbers::pi));
-  const double shift = c * std::exp(-0.5) / (eps * eps);  // w(ε)/ε²
   double value = 0;
   for (const PointPair& pr : candidates) {
-    const Vec3 dq = (positions.row(pr.i) - positions.row(pr.j)).transpose() * inv;
-    const double d = dq.norm();
-    if (!(d < eps) || !(d > 0)) continue;
-    const double w = c * std::exp(-d * d / (2 * eps * eps));
-    value += w / (d * d) - shift;
-    if (d_positions) {
-      // dO/dd = w'/d² − 2w/d³ with w' = −d w / ε².
-      const double dOdd = -w / (eps * eps * d) - 2 * w / (d * d * d);
-      const Vec3 g = (dOdd * inv / d) * dq;  // ∂O/∂q_i (dq already in ℓ units)
-      d_positions->row(pr.i) += g.transpose();
-      d_positions->row(pr.j) -= g.transpose();
+    const Vec3 a = positions.row(pr.i).transpose(), b = positions.row(pr.j).transpose();
+    const PairTerm t = repulsion_pair((a - b).norm(), epsilon, inv);
+    value += t.value;
+    add_pair(t, a, b, Vec3::Ones(), pr.i, pr.j, 1.0, d_positions, nullptr);
+  }
+  return value;
+}
+
+double image_collision_objective(const PatternMirror& mirror, const RowMatX3d& positions,
+                                 const Eigen::VectorXd& scales, double safety, double unit,
+                                 const std::vector<ImagePair>& pairs, RowMatX3d* d_positions,
+                                 Eigen::VectorXd* d_scales, double gap) {
+  const double inv = 1.0 / unit;
+  double value = 0;
+  for (const ImagePair& p : pairs) {
+    if (p.i == p.j && mirror.single(p.k)) continue;  // plane_collision_objective's
+    const Vec3 a = positions.row(p.i).transpose();
+    const Vec3 b = mirror.image(positions.row(p.j).transpose(), p.k);
+    const PairTerm t = collision_pair((a - b).norm(), scales[p.i] + scales[p.j], safety, gap, inv);
+    value += 0.5 * t.value;
+    add_pair(t, a, b, mirror.flip(p.k), p.i, p.j, 0.5, d_positions, d_scales);
+  }
+  return value;
+}
+
+double plane_collision_objective(const PatternMirror& mirror, const RowMatX3d& positions,
+                                 const Eigen::VectorXd& scales, double safety, double unit,
+                                 RowMatX3d* d_positions, Eigen::VectorXd* d_scales, double gap) {
+  const double inv = 1.0 / unit;
+  double value = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!mirror.has_plane(a)) continue;
+    const double side = mirror.side(a);
+    for (int i = 0; i < positions.rows(); ++i) {
+      // ½ ((1+s) 2r + gap − 2δ)² = 2 ((1+s) r + gap/2 − δ)²: the pair of i and its image.
+      const double delta = mirror.side_distance(positions.row(i).transpose(), a);
+      const double g = ((1 + safety) * scales[i] + 0.5 * gap - delta) * inv;
+      if (!(g > 0)) continue;
+      value += 2 * g * g;
+      if (d_scales) (*d_scales)[i] += 4 * g * (1 + safety) * inv;
+      if (d_positions) (*d_positions)(i, a) -= 4 * g * inv * side;
     }
+  }
+  return value;
+}
+
+double image_repulsion_objective(const PatternMirror& mirror, const RowMatX3d& positions, double epsilon,
+                                 double unit, const std::vector<ImagePair>& pairs, RowMatX3d* d_positions) {
+  const double inv = 1.0 / unit;
+  double value = 0;
+  for (const ImagePair& p : pairs) {
+    const Vec3 a = positions.row(p.i).transpose();
+    const Vec3 b = mirror.image(positions.row(p.j).transpose(), p.k);
+    const PairTerm t = repulsion_pair((a - b).norm(), epsilon, inv);
+    value += 0.5 * t.value;
+    add_pair(t, a, b, mirror.flip(p.k), p.i, p.j, 0.5, d_positions, nullptr);
   }
   return value;
 }
@@ -81,29 +157,27 @@ double growth_objective(const Eigen::VectorXd& scales, double unit, Eigen::Vecto
   return -scales.sum() / unit;
 }
 
-namespace {
-double candidate_cutoff(const Eigen::VectorXd& scales, double safety, double epsilon, double gap) {
+double packing_cutoff(const Eigen::VectorXd& scales, double safety, double epsilon, double gap) {
   const double rmax = scales.size() ? scales.maxCoeff() : 0.0;
   return std::max(epsilon, (1 + safety) * 2 * rmax + gap);
 }
-}  // namespace
 
 std::vector<PointPair> packing_candidates(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                                           double safety, double epsilon, double gap) {
-  const double cutoff = candidate_cutoff(scales, safety, epsilon, gap);
+  const double cutoff = packing_cutoff(scales, safety, epsilon, gap);
   return PointGrid(positions, cutoff).pairs_within(cutoff);
 }
 
 std::vector<PointPair> packing_candidates_brute_force(const RowMatX3d& positions,
                                                       const Eigen::VectorXd& scales, double safety,
                                                       double epsilon, double gap) {
-  return pairs_within_brute_force(positions, candidate_cutoff(scales, safety, epsilon, gap));
+  return pairs_within_brute_force(positions, packing_cutoff(scales, safety, epsilon, gap));
 }
 
 double packing_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                          const PackingSettings& st, const BoundaryPolylines& boundary,
                          const Eigen::VectorXd* slack, RowMatX3d* d_positions,
-                         Eigen::VectorXd* d_scales, PackingTerms* terms) {
+                         Eigen::VectorXd* d_scales, PackingTerms* terms, const PatternMirror* mirror) {
   const int n = int(positions.rows());
   RowMatX3d gq;
   Eigen::VectorXd gs;
@@ -127,14 +201,23 @@ double packing_objective(const RowMatX3d& positions, const Eigen::VectorXd& scal
     if (ps) *d_scales += w * gs;
     return w * v;
   };
+  const bool images = mirror && mirror->any();
+  const std::vector<ImagePair> image_cand =
+      images ? image_pairs(*mirror, positions, packing_cutoff(scales, st.safety, st.epsilon)) : std::vector<ImagePair>{};
   t.collision = weighted(st.weights.collision, [&] {
-    return collision_objective(positions, scales, st.safety, st.unit, cand, pq, ps);
+    double v = collision_objective(positions, scales, st.safety, st.unit, cand, pq, ps);
+    if (images) v += image_collision_objective(*mirror, positions, scales, st.safety, st.unit, image_cand, pq, ps);
+    return v;
   });
   t.boundary = weighted(st.weights.collision, [&] {
-    return boundary_collision_objective(positions, scales, st.safety, st.unit, boundary, slack, pq, ps);
+    double v = boundary_collision_objective(positions, scales, st.safety, st.unit, boundary, slack, pq, ps);
+    if (images) v += plane_collision_objective(*mirror, positions, scales, st.safety, st.unit, pq, ps);
+    return v;
   });
   t.repulsion = weighted(st.weights.repulsion, [&] {
-    return repulsion_objective(positions, st.epsilon, st.unit, cand, pq);
+    double v = repulsion_objective(positions, st.epsilon, st.unit, cand, pq);
+    if (images) v += image_repulsion_objective(*mirror, positions, st.epsilon, st.unit, image_cand, pq);
+    return v;
   });
   t.growth = weighted(st.weights.growth, [&] { return growth_objective(scales, st.unit, ps); });
   if (terms) *terms = t;

@@ -23,6 +23,7 @@
 
 #include "host/core/types.h"
 #include "host/pattern/boundary_distance.h"
+#include "host/pattern/pattern_mirror.h"
 #include "host/pattern/point_grid.h"
 
 namespace cutwork {
@@ -60,11 +61,36 @@ double boundary_collision_objective(const RowMatX3d& positions, const Eigen::Vec
 double repulsion_objective(const RowMatX3d& positions, double epsilon, double unit,
                            const std::vector<PointPair>& candidates, RowMatX3d* d_positions);
 
+/// Collision (1) between the stencils and the mirror images of the others across symmetry planes
+/// (pattern_mirror.h): ½ Σ over `pairs` of ((1+s)(r_i + r_j) + gap − |c_i − g_k c_j|)₊² / ℓ², the
+/// gradient taken back through the reflection to c_j. A stencil's pair with its own image in a
+/// single plane is skipped (plane_collision_objective's, signed); with a composition of planes it
+/// is counted here. `pairs` from image_pairs at the candidate cut-off.
+double image_collision_objective(const PatternMirror& mirror, const RowMatX3d& positions,
+                                 const Eigen::VectorXd& scales, double safety, double unit,
+                                 const std::vector<ImagePair>& pairs, RowMatX3d* d_positions,
+                                 Eigen::VectorXd* d_scales, double gap = 0);
+
+/// Each stencil against its own image in each single plane, with the signed distance δ to the
+/// plane (negative beyond it, so an unprojected position that left the model is pushed back, as
+/// the boundary term does): Σ 2 ((1+s) r_i + gap/2 − δ_i)₊² / ℓ², which is ½ of the pair term at
+/// the distance 2δ.
+double plane_collision_objective(const PatternMirror& mirror, const RowMatX3d& positions,
+                                 const Eigen::VectorXd& scales, double safety, double unit,
+                                 RowMatX3d* d_positions, Eigen::VectorXd* d_scales, double gap = 0);
+
+/// Repulsion (3) between the stencils and the images, ½ per pair (own images included).
+double image_repulsion_objective(const PatternMirror& mirror, const RowMatX3d& positions, double epsilon,
+                                 double unit, const std::vector<ImagePair>& pairs, RowMatX3d* d_positions);
+
 /// Growth (4): −Σ s_i / ℓ.
 double growth_objective(const Eigen::VectorXd& scales, double unit, Eigen::VectorXd* d_scales);
 
-/// Candidate pairs for (1) and (3): all pairs closer than max(ε, (1+s)·2·max r + gap), from a
-/// uniform grid. The twin below scans all pairs.
+/// The candidates' cut-off: max(ε, (1+s)·2·max r + gap).
+double packing_cutoff(const Eigen::VectorXd& scales, double safety, double epsilon, double gap = 0);
+
+/// Candidate pairs for (1) and (3): all pairs closer than packing_cutoff, from a uniform grid. The
+/// twin below scans all pairs.
 std::vector<PointPair> packing_candidates(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                                           double safety, double epsilon, double gap = 0);
 std::vector<PointPair> packing_candidates_brute_force(const RowMatX3d& positions,
@@ -87,9 +113,12 @@ struct PackingTerms {
 
 /// P^pack (5) with the weights: w_c (Σ O^coll + Σ O^bcoll) + w_r Σ O^rep + w_g Σ O^growth.
 /// `boundary` may be empty (closed surface). Returns the total; `terms` (nullable) the parts.
+/// With symmetry planes (`mirror`, nullable) the collision and repulsion add the images' terms
+/// and the boundary the planes' (pattern_mirror.h): the whole's P divided by |G|.
 double packing_objective(const RowMatX3d& positions, const Eigen::VectorXd& scales,
                          const PackingSettings& settings, const BoundaryPolylines& boundary,
                          const Eigen::VectorXd* slack, RowMatX3d* d_positions,
-                         Eigen::VectorXd* d_scales, PackingTerms* terms = nullptr);
+                         Eigen::VectorXd* d_scales, PackingTerms* terms = nullptr,
+                         const PatternMirror* mirror = nullptr);
 
 }  // namespace cutwork

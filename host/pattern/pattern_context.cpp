@@ -80,6 +80,10 @@ PatternContext::PatternContext(const Scene& scene, const SceneMeshes& meshes)
   SizingField sizing = SizingField::from_settings(ps, mesh);
   const double mean_inv2 = sizing.mean_power(mesh, -2.0);
   double area = mesh.face_areas().sum();
+  // A half (quarter, eighth) on symmetry planes stands for the whole: the automatic scale is the
+  // whole's (an explicit pattern.count counts the model's stencils).
+  const Vec3 planes = scene_symmetry_planes(scene, meshes.sim);
+  const int copies = 1 << int(planes.array().isFinite().count());
   const double one_plus_s = 1 + ps.s;
 
   // The unit ℓ (nominal stencil scale) and the exemplar's σ_0.
@@ -87,7 +91,7 @@ PatternContext::PatternContext(const Scene& scene, const SceneMeshes& meshes)
   if (ps.scale > 0) {
     m_unit = ps.scale;
   } else {
-    const double count = ps.count > 0 ? double(ps.count) : kAutomaticCount;
+    const double count = ps.count > 0 ? double(ps.count) : kAutomaticCount / copies;
     if (m_kind == PatternKind::Packing) {
       m_unit = std::sqrt(kPoissonJamming * area * mean_inv2 / (std::numbers::pi * one_plus_s * one_plus_s * count));
     } else {
@@ -115,7 +119,8 @@ PatternContext::PatternContext(const Scene& scene, const SceneMeshes& meshes)
   fo.symmetry = m_symmetry;
   fo.strokes = ps.strokes;
   fo.stroke_weight = ps.stroke_weight;
-  m_surface = std::make_unique<PatternSurface>(mesh, fo, std::move(sizing), reach);
+  // On symmetry planes the pattern sees its mirror images across them.
+  m_surface = std::make_unique<PatternSurface>(mesh, fo, std::move(sizing), reach, planes);
   m_epsilon = ps.epsilon * m_surface->length();
 
   PatternEnergySettings es;

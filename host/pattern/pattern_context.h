@@ -10,7 +10,10 @@
 ///    else from pattern.count (packing: a maximal Poisson-disk packing of that many stencils;
 ///    exemplar: the exemplar's density); else automatic: the scale at which ~300 stencils
 ///    (the paper's Table 1: 185–462) cover the surface, but at least one base-mesh edge length.
-///  - ε = pattern.epsilon × the object's length (longest bounding-box side), §4.2.
+///    On symmetry planes the surface is the whole's (~300 / 2^planes stencils on the model; an
+///    explicit pattern.count counts the model's stencils).
+///  - ε = pattern.epsilon × the object's length (longest bounding-box side, of the whole on
+///    symmetry planes), §4.2.
 ///  - σ_0 (exemplar → metres) = ℓ / the exemplar's mean element scale.
 ///  - Scale bounds: packing [scale_min, scale_max] × ℓ × sizing at the stencil's start;
 ///    exemplar [scale_min × smallest, scale_max × largest] exemplar scale × σ_0 × sizing.

@@ -63,21 +63,29 @@ double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales
   const bool packing = st.kind == PatternKind::Packing;
   const std::vector<PointPair> cand =
       packing_candidates(c, scales, st.safety, packing ? st.epsilon : 0.0, st.gap);
+  // Symmetry planes: the images' pairs and the planes' terms (pattern_mirror.h).
+  const PatternMirror& mirror = m_surface->mirror();
+  const std::vector<ImagePair> image_cand =
+      mirror.any() ? image_pairs(mirror, c, packing_cutoff(scales, st.safety, packing ? st.epsilon : 0.0, st.gap))
+                   : std::vector<ImagePair>{};
   if (!packing) {
     t.det = weighted(1.0, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
       return det_objective(*m_exemplar, m_hoods, c, scales, types, pq, ps);
     });
   }
   t.collision = weighted(st.admissibility * st.weights.collision, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
-    return collision_objective(c, scales, st.safety, st.unit, cand, pq, ps, st.gap);
+    return collision_objective(c, scales, st.safety, st.unit, cand, pq, ps, st.gap) +
+           image_collision_objective(mirror, c, scales, st.safety, st.unit, image_cand, pq, ps, st.gap);
   });
   t.boundary = weighted(st.admissibility * st.weights.collision, &gq, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
     return boundary_collision_objective(q, scales, st.safety, st.unit, m_surface->boundary(), &slack,
-                                        pq, ps, st.gap);
+                                        pq, ps, st.gap) +
+           plane_collision_objective(mirror, q, scales, st.safety, st.unit, pq, ps, st.gap);
   });
   if (packing) {
     t.repulsion = weighted(st.weights.repulsion, &gc, [&](RowMatX3d* pq, Eigen::VectorXd*) {
-      return repulsion_objective(c, st.epsilon, st.unit, cand, pq);
+      return repulsion_objective(c, st.epsilon, st.unit, cand, pq) +
+             image_repulsion_objective(mirror, c, st.epsilon, st.unit, image_cand, pq);
     });
     t.growth = weighted(st.weights.growth, &gc, [&](RowMatX3d*, Eigen::VectorXd* ps) {
       return growth_objective(scales, st.unit, ps);

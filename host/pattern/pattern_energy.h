@@ -10,6 +10,9 @@
 ///   exemplar: E^DET(c) + w_c (Σ O^coll(c) + Σ O^bcoll(q))        ("we augment the DET
 ///             objective by a term that explicitly penalizes collisions", §4.2)
 ///   both:     + w_t Σ |q_i − c_i|² / ℓ²   (projection tether)
+/// On a surface with symmetry planes (PatternSurface::mirror) O^coll and O^rep add the pairs with
+/// the stencils' mirror images and O^bcoll each stencil's pair with its own image in a plane, at q
+/// (packing_objective.h): P is then the whole's divided by the number of its copies.
 /// The boundary term is evaluated at the unprojected q with the signed distance, so a stencil
 /// pushed beyond an open boundary during a line search is pulled back instead of sticking to
 /// the boundary, where Π would hide the excursion. The tether keeps q near the surface (where

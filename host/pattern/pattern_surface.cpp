@@ -32,12 +32,13 @@ std::vector<StencilParams> layout_params(const StencilLayout& layout) {
 }
 
 PatternSurface::PatternSurface(const SurfaceMesh& mesh, const OrientationFieldOptions& field_options,
-                               SizingField sizing, double boundary_cell)
+                               SizingField sizing, double boundary_cell, const Vec3& mirror_planes)
     : m_mesh(&mesh),
       m_bvh(mesh),
       m_field(mesh, m_bvh, field_options),
       m_sizing(std::move(sizing)),
-      m_boundary(mesh, boundary_cell) {
+      m_mirror(mirror_planes, mesh.vertices().colwise().mean().transpose()),
+      m_boundary(mesh, boundary_cell, &m_mirror) {
   m_area_cdf.resize(size_t(mesh.num_faces()));
   double acc = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -45,7 +46,14 @@ PatternSurface::PatternSurface(const SurfaceMesh& mesh, const OrientationFieldOp
     m_area_cdf[size_t(f)] = acc;
   }
   m_area = acc;
-  m_length = (mesh.bbox_max() - mesh.bbox_min()).maxCoeff();
+  // The whole's bounding box on symmetry planes: each plane's axis spans twice the model's reach
+  // from the plane.
+  Vec3 extent = mesh.bbox_max() - mesh.bbox_min();
+  for (int a = 0; a < 3; ++a)
+    if (m_mirror.has_plane(a))
+      extent[a] = 2 * std::max(std::abs(mesh.bbox_max()[a] - m_mirror.planes()[a]),
+                               std::abs(mesh.bbox_min()[a] - m_mirror.planes()[a]));
+  m_length = extent.maxCoeff();
 }
 
 void PatternSurface::frame_at(const SurfacePoint& p, Vec3& normal, Vec3& tangent,

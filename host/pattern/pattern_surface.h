@@ -3,6 +3,7 @@
 /// mesh): closest-point projection, frames (Phong normal, orientation-field tangent), the
 /// sizing field, the open boundary, and area-weighted sampling. Plus the stencil layout type
 /// shared by the initialisations, the objectives and the pattern phase.
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -36,9 +37,13 @@ class PatternSurface {
  public:
   /// Builds the BVH, solves the orientation field and collects the boundary polylines of
   /// `mesh` (which must outlive this object). `boundary_cell` (m) buckets the boundary, best
-  /// about the largest stencil reach.
+  /// about the largest stencil reach. `mirror_planes` (LoadCase::symmetry_planes: x = .x(), …; NaN
+  /// where none): the mesh is the half (quarter, eighth) of a whole on those planes, which are then
+  /// no part of its open boundary and across which the pattern sees its mirror images
+  /// (pattern_mirror.h).
   PatternSurface(const SurfaceMesh& mesh, const OrientationFieldOptions& field_options,
-                 SizingField sizing, double boundary_cell);
+                 SizingField sizing, double boundary_cell,
+                 const Vec3& mirror_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
   PatternSurface(const PatternSurface&) = delete;
   PatternSurface& operator=(const PatternSurface&) = delete;
 
@@ -47,8 +52,11 @@ class PatternSurface {
   const OrientationField& field() const { return m_field; }
   const SizingField& sizing() const { return m_sizing; }
   const BoundaryPolylines& boundary() const { return m_boundary; }
+  /// The symmetry planes (none unless given).
+  const PatternMirror& mirror() const { return m_mirror; }
   double area() const { return m_area; }
-  /// The object's length: the longest side of its bounding box (m); ε is a fraction of it.
+  /// The object's length: the longest side of its bounding box (m; of the whole on symmetry
+  /// planes); ε is a fraction of it.
   double length() const { return m_length; }
 
   ClosestPoint project(const Vec3& q) const { return project_to_surface(m_bvh, q); }
@@ -71,6 +79,7 @@ class PatternSurface {
   FaceBvh m_bvh;
   OrientationField m_field;
   SizingField m_sizing;
+  PatternMirror m_mirror;
   BoundaryPolylines m_boundary;
   std::vector<double> m_area_cdf;
   double m_area = 0;

@@ -26,13 +26,15 @@ int poisson_disk_sample(const PatternSurface& surface, StencilLayout& layout, Pa
     const Vec3 c = surface.mesh().point(where);
     const double r = o.unit * surface.sizing_at(where);
     bool ok = surface.boundary_distance(c, one_plus_s * r) >= one_plus_s * r;
-    if (ok) {
-      grid.in_ball(c, one_plus_s * (r + rmax), near);
+    // Against the stencils and, across symmetry planes, their images and its own (pattern_mirror.h):
+    // |g c − c_j| = |c − g c_j|.
+    const PatternMirror& mirror = surface.mirror();
+    for (int k = -1; ok && k < mirror.num_reflections(); ++k) {
+      const Vec3 y = k < 0 ? c : mirror.image(c, k);
+      if (k >= 0 && (y - c).norm() < 2 * one_plus_s * r) ok = false;
+      grid.in_ball(y, one_plus_s * (r + rmax), near);
       for (int j : near)
-        if ((grid.point(j) - c).norm() < one_plus_s * (r + layout[size_t(j)].scale)) {
-          ok = false;
-          break;
-        }
+        if (ok && (grid.point(j) - y).norm() < one_plus_s * (r + layout[size_t(j)].scale)) ok = false;
     }
     if (!ok) {
       ++misses;

@@ -887,6 +887,16 @@ std::vector<int> select_entities(const Selector& sel, const SurfaceMesh& mesh, c
   return out;
 }
 
+bool has_symmetry_plane(const Scene& scene) {
+  return std::any_of(scene.supports.begin(), scene.supports.end(),
+                     [](const SupportSpec& s) { return s.kind == SupportKind::Symmetry; });
+}
+
+Vec3 scene_symmetry_planes(const Scene& scene, const SurfaceMesh& mesh) {
+  if (!has_symmetry_plane(scene)) return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  return resolve_load_case(scene, mesh).symmetry_planes;
+}
+
 LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh, const std::vector<bool>* outer_boundary,
                            const LoadCase* match_totals) {
   const std::string origin = scene_origin(scene);

@@ -268,6 +268,13 @@ LoadCase resolve_load_case(const Scene& scene, const SurfaceMesh& mesh,
                            const std::vector<bool>* outer_boundary = nullptr,
                            const LoadCase* match_totals = nullptr);
 
+/// Whether the scene models a half (quarter, eighth) on symmetry planes (supports of type "symmetry").
+bool has_symmetry_plane(const Scene& scene);
+
+/// The scene's symmetry planes resolved on `mesh` (LoadCase::symmetry_planes: x = .x(), …; NaN where
+/// none; all NaN without a symmetry support, without resolving anything). Throws as resolve_load_case.
+Vec3 scene_symmetry_planes(const Scene& scene, const SurfaceMesh& mesh);
+
 /// How much of a mesh a set of fixed vertices holds, as measures that converge under refinement
 /// when the supports select a fixed physical region:
 ///  - area: the faces whose three vertices are fixed, one of them inside the mesh (an area

@@ -25,12 +25,6 @@ namespace cutwork::solvers {
 
 namespace {
 
-/// Whether the scene models a half on a symmetry plane (its planes come from resolving it on a mesh).
-bool has_symmetry_plane(const Scene& scene) {
-  return std::any_of(scene.supports.begin(), scene.supports.end(),
-                     [](const SupportSpec& s) { return s.kind == SupportKind::Symmetry; });
-}
-
 using nlohmann::json;
 
 json phase_json(const std::string& name, int iterations, int evaluations, int rounds, double seconds,
@@ -323,7 +317,7 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
   in.cut = &cut;
   in.thickness = scene.material.thickness;
   in.min_feature = scene.fabrication.min_feature;
-  if (has_symmetry_plane(scene)) in.symmetry_planes = resolve_load_case(scene, meshes.sim).symmetry_planes;
+  in.symmetry_planes = scene_symmetry_planes(scene, meshes.sim);
   return in;
 }
 

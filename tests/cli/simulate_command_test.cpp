@@ -147,6 +147,39 @@ TEST(CliSimulate, AHalfOnASymmetryPlaneIsHalfTheWhole) {
   fs::remove_all(dir);
 }
 
+TEST(CliSimulate, AHalfOnASymmetryPlaneIsDesignedAsItsWhole) {
+  // `design` of the plate's half: the whole's stencil size (about half the whole's count), every
+  // stencil (1+s) r + g/2 or more from the plane — the ligament to its image is the minimum feature —
+  // and some nearer than the (1+s) r + g a boundary would ask; the minimum-feature check reads the
+  // whole (no violation at the plane).
+  const fs::path dir = test::temp_dir("design_half");
+  nlohmann::json half = plate_scene();
+  half["mesh"]["params"]["height"] = 0.05;
+  half["supports"].push_back(
+      {{"type", "symmetry"}, {"axis", "y"}, {"select", {{"entity", "vertices"}, {"y", {{"below", -0.0249999}}}}}});
+  half["loads"][0]["force"] = {0.0, 0.0, -0.5};
+  half["loads"][0]["select"]["near"]["point"] = {0.1, -0.025, 0.0};
+  const fs::path half_file = dir / "half.json";
+  std::ofstream(half_file) << half.dump(2);
+  const auto h = run_cutwork("design " + half_file.string() + " --device cpu --no-render --quiet --out " + (dir / "h").string());
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  const auto w = run_cutwork("design plate --phases pattern --device cpu --no-render --quiet --out " + (dir / "w").string());
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  const auto hs = read_json(dir / "h" / "stencils.json")["stencils"];
+  const auto ws = read_json(dir / "w" / "stencils.json")["stencils"];
+  EXPECT_GT(hs.size(), 0.4 * ws.size());
+  EXPECT_LT(hs.size(), 0.6 * ws.size());
+  const auto report = read_json(dir / "h" / "report.json");
+  const double g = report["fabrication"]["min_feature"].get<double>(), s = half["pattern"]["s"].get<double>();
+  double margin = INFINITY;  // δ − (1+s) r, the least over the stencils
+  for (const auto& st : hs)
+    margin = std::min(margin, st["position"][1].get<double>() + 0.025 - (1 + s) * st["scale"].get<double>());
+  EXPECT_GE(margin, 0.5 * g - 1e-9);
+  EXPECT_LT(margin, g);
+  EXPECT_EQ(report["fabrication"]["violation_count"].get<int>(), 0) << report["fabrication"].dump();
+  fs::remove_all(dir);
+}
+
 TEST(CliSimulate, StencilsOfADesignReproduceItsEquilibrium) {
   // The pattern design of the plate, then its stencils.json simulated on its own: the same fill
   // ratios, so the same equilibrium as the design's report (Newton-converged, cold vs warm start).

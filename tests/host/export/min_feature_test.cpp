@@ -53,6 +53,30 @@ TEST(MinFeature, TwoStencilsHalfAMillimetreApartAreFlagged) {
   EXPECT_NEAR(r.violations[0].point_b.x(), gap / 2, 1e-9);
 }
 
+TEST(MinFeature, OnASymmetryPlaneAHoleMeetsItsImage) {
+  // The plate as the half of a whole on the plane y = −0.05: a square 0.4 mm from the plane has
+  // 0.8 mm of material to its image (a ligament between two holes of the whole, too narrow), not
+  // 0.4 mm to a border; at 0.6 mm it passes; the other sides stay a border.
+  const Plate plate;
+  const double half = 0.01, c = -0.05;
+  const Vec3 planes(NAN, c, NAN);
+  const CutSurface near = plate.cut({{0.0, c + 0.0004 + half}}, half);
+  const MinFeatureReport plain = check_min_feature(near, plate.mesh, 0.001);
+  ASSERT_EQ(plain.violations.size(), 1u);
+  EXPECT_EQ(plain.violations[0].kind, "boundary");
+  const MinFeatureReport r = check_min_feature(near, plate.mesh, 0.001, planes);
+  EXPECT_NEAR(r.narrowest_between_stencils, 0.0008, 1e-9);
+  EXPECT_NEAR(r.narrowest_to_boundary, 0.1 - 2 * half - 0.0004, 1e-9);  // to the edge y = 0.05
+  ASSERT_EQ(r.violations.size(), 1u);
+  EXPECT_EQ(r.violations[0].kind, "stencils");
+  EXPECT_NEAR(r.violations[0].point_a.y(), c + 0.0004, 1e-9);
+  EXPECT_NEAR(r.violations[0].point_b.y(), c - 0.0004, 1e-9);
+  EXPECT_TRUE(check_min_feature(plate.cut({{0.0, c + 0.0006 + half}}, half), plate.mesh, 0.001, planes).violations.empty());
+  const MinFeatureReport side = check_min_feature(plate.cut({{0.1 - 0.0004 - half, 0}}, half), plate.mesh, 0.001, planes);
+  ASSERT_EQ(side.violations.size(), 1u);
+  EXPECT_EQ(side.violations[0].kind, "boundary");
+}
+
 TEST(MinFeature, TwoMillimetresApartPass) {
   const Plate plate;
   const double half = 0.01, x = half + 0.001;
