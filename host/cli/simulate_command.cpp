@@ -208,7 +208,7 @@ void run_simulate(const SimulateOptions& opts) {
     const std::vector<double>& samples = model.mechanics().stiffness_curve.alpha;
     const solvers::LigamentPeakSummary ligaments = solvers::summarize_ligament_peaks(
         *cut, meshes.base, meshes.sim, alpha, summary.peak_energy_density, samples.empty() ? 0.0 : samples.front(),
-        scene.material.thickness, model.mechanics().lattice);
+        scene.material.thickness, model.mechanics().lattice, model.load_case().symmetry_planes);
     W_ligament_max = ligaments.W_max;
     report["ligaments"] = solvers::ligament_peak_json(ligaments, scene.material.thickness);
     report["timings"]["ligaments"] = sw.seconds();

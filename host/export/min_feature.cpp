@@ -294,7 +294,8 @@ double vertex_upper_bound(const CutSurface& cut, const Loop& a, const Loop& b) {
 
 }  // namespace
 
-std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& base, double relative_width) {
+std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& base, double relative_width,
+                                     const Vec3& mirror_planes) {
   std::vector<Ligament> out;
   if (!(relative_width > 0)) return out;
   const std::vector<Loop> loops = boundary_loops(cut, base);
@@ -330,6 +331,30 @@ std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& b
       l.size_b = size(b);
       l.radius_a = rim_radius(cut, a, ea, l.point_a, l.point_b, l.width);
       l.radius_b = rim_radius(cut, b, eb, l.point_b, l.point_a, l.width);
+      out.push_back(l);
+    }
+  }
+  // Symmetry planes: each hole and its own image, across the ligament at the hole's nearest vertex.
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(mirror_planes[a])) continue;
+    const double c = mirror_planes[a];
+    for (const int i : order) {
+      const Loop& h = loops[size_t(i)];
+      int edge = -1;
+      for (int e = 0; e < int(h.edges.size()); ++e)
+        if (edge < 0 || std::abs(cut.vertices(h.edges[size_t(e)][0], a) - c) <
+                            std::abs(cut.vertices(h.edges[size_t(edge)][0], a) - c))
+          edge = e;
+      if (edge < 0) continue;
+      Ligament l;
+      l.point_a = cut.vertices.row(h.edges[size_t(edge)][0]).transpose();
+      l.point_b = l.point_a;
+      l.point_b[a] = 2 * c - l.point_a[a];
+      l.width = (l.point_a - l.point_b).norm();
+      l.size_a = l.size_b = size(h);
+      if (!(l.width <= relative_width * l.size_a)) continue;
+      l.loop_a = l.loop_b = i;
+      l.radius_a = l.radius_b = rim_radius(cut, h, edge, l.point_a, l.point_b, l.width);
       out.push_back(l);
     }
   }

@@ -67,8 +67,12 @@ struct Ligament {
 
 /// Every ligament between two hole loops of `cut` (the border's loops left out) narrower than
 /// `relative_width` × the smaller hole's size (half the largest extent of its bounding box: a
-/// circle's radius), narrowest first. Loops as in check_min_feature.
-std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& base, double relative_width);
+/// circle's radius), narrowest first. Loops as in check_min_feature. On symmetry planes
+/// (`mirror_planes` as in check_min_feature) a hole's ligament to its own mirror image counts as
+/// one (loop_a = loop_b; point_b the image of point_a, the hole's nearest vertex to the plane; both
+/// rims' radii the one there).
+std::vector<Ligament> find_ligaments(const CutSurface& cut, const SurfaceMesh& base, double relative_width,
+                                     const Vec3& mirror_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
 
 /// Checks the cut surface `cut` of `base` against `minimum` (m, ≥ 0). The vertices of `cut`
 /// that come from base vertices (CutSurface::source_vertex) tell which loops are the border.

@@ -413,7 +413,7 @@ ConformingVerification verify_conforming(const Scene& scene, const SceneMeshes& 
     const std::vector<double>& samples = mechanics.stiffness_curve.alpha;
     v.ligaments = summarize_ligament_peaks(cut, meshes.base, meshes.sim, v.alpha, coarse_W_peak,
                                            samples.empty() ? 0.0 : samples.front(), scene.material.thickness,
-                                           mechanics.lattice);
+                                           mechanics.lattice, scene_symmetry_planes(scene, meshes.sim));
   }
   // The singular corners of the rim recovery from the cut's outline, the same on every level.
   // The rim recovery's singular zones, the same on every level: the minimum feature about the

@@ -135,9 +135,10 @@ std::vector<LigamentPeak> ligament_peaks(const SurfaceMesh& sim, const Eigen::Ve
 
 LigamentPeakSummary summarize_ligament_peaks(const CutSurface& cut, const SurfaceMesh& base, const SurfaceMesh& sim,
                                              const Eigen::VectorXd& alpha, const Eigen::VectorXd& W_peak,
-                                             double alpha_floor, double thickness, PerforationLattice lattice) {
+                                             double alpha_floor, double thickness, PerforationLattice lattice,
+                                             const Vec3& mirror_planes) {
   LigamentPeakSummary s;
-  s.ligaments = find_ligaments(cut, base, kLigamentSearchWidth);
+  s.ligaments = find_ligaments(cut, base, kLigamentSearchWidth, mirror_planes);
   s.peaks = ligament_peaks(sim, alpha, W_peak, s.ligaments, alpha_floor, lattice);
   for (std::size_t i = 0; i < s.peaks.size(); ++i) {
     if (s.worst < 0 || s.peaks[i].W > s.W_max) {

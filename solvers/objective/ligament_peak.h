@@ -146,10 +146,12 @@ struct LigamentPeakSummary {
 };
 
 /// find_ligaments on the cut surface `cut` of `base`, then ligament_peaks on the coarse mesh.
-/// `thickness` (m) only counts the ligaments narrower than it.
+/// `thickness` (m) only counts the ligaments narrower than it. `mirror_planes`: the symmetry planes
+/// (find_ligaments), so that a hole's ligament to its own image across one is looked at.
 LigamentPeakSummary summarize_ligament_peaks(const CutSurface& cut, const SurfaceMesh& base, const SurfaceMesh& sim,
                                              const Eigen::VectorXd& alpha, const Eigen::VectorXd& W_peak,
                                              double alpha_floor, double thickness,
-                                             PerforationLattice lattice = PerforationLattice::Hexagonal);
+                                             PerforationLattice lattice = PerforationLattice::Hexagonal,
+                                             const Vec3& mirror_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
 
 }  // namespace cutwork::solvers

@@ -237,7 +237,7 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
     ligaments = summarize_ligament_peaks(out.cut, meshes.base, meshes.sim, result.final_design.alpha,
                                          result.final_design.summary.peak_energy_density,
                                          samples.empty() ? 0.0 : samples.front(), scene.material.thickness,
-                                         mechanics.lattice);
+                                         mechanics.lattice, scene_symmetry_planes(scene, meshes.sim));
     out.W_ligament_max = ligaments.W_max;
     if (ligaments.narrower_than_thickness > 0)
       info.notes.push_back(fmt::format(

@@ -75,6 +75,16 @@ TEST(MinFeature, OnASymmetryPlaneAHoleMeetsItsImage) {
   const MinFeatureReport side = check_min_feature(plate.cut({{0.1 - 0.0004 - half, 0}}, half), plate.mesh, 0.001, planes);
   ASSERT_EQ(side.violations.size(), 1u);
   EXPECT_EQ(side.violations[0].kind, "boundary");
+  // The narrow-ligament search pairs the hole with its image (and finds nothing without the plane).
+  EXPECT_TRUE(find_ligaments(near, plate.mesh, 0.5).empty());
+  const std::vector<Ligament> ls = find_ligaments(near, plate.mesh, 0.5, planes);
+  ASSERT_EQ(ls.size(), 1u);
+  EXPECT_NEAR(ls[0].width, 0.0008, 1e-9);
+  EXPECT_EQ(ls[0].loop_a, ls[0].loop_b);
+  EXPECT_NEAR(ls[0].point_a.y(), c + 0.0004, 1e-9);
+  EXPECT_NEAR(ls[0].point_b.y(), c - 0.0004, 1e-9);
+  EXPECT_NEAR(ls[0].point_a.x(), ls[0].point_b.x(), 1e-15);
+  EXPECT_NEAR(ls[0].size_a, half, 1e-9);
 }
 
 TEST(MinFeature, TwoMillimetresApartPass) {
