@@ -99,7 +99,7 @@ std::vector<Complex> stroke_targets(const SurfaceMesh& mesh, const FaceBvh& bvh,
 /// the mesh's longest bounding-box axis. Sets `fixed` (#F, 1 for those faces) and their values
 /// u_f in `fixed_value` (#F).
 void anchor_free_components(const SurfaceMesh& mesh, const std::vector<int>& stroke_faces, int N,
-                            const std::vector<Vec3>& E1, const std::vector<Vec3>& E2,
+                            const std::vector<Vec3>& E1, const std::vector<Vec3>& E2, const Vec3& mirror_planes,
                             std::vector<int>& fixed, std::vector<Complex>& fixed_value) {
   const int F = mesh.num_faces();
   const RowMatX3d& V = mesh.vertices();
@@ -113,8 +113,13 @@ void anchor_free_components(const SurfaceMesh& mesh, const std::vector<int>& str
   std::vector<bool> comp_has_stroke(static_cast<size_t>(F), false);
   for (int f : stroke_faces) comp_has_stroke[size_t(comp[size_t(f)])] = true;
 
-  // Reference axes, longest bounding-box extent first (ties: x before y before z).
-  const Vec3 extent = mesh.bbox_max() - mesh.bbox_min();
+  // Reference axes, longest bounding-box extent first (ties: x before y before z); of the whole on
+  // symmetry planes (each plane's axis spans twice the mesh's reach from it).
+  Vec3 extent = mesh.bbox_max() - mesh.bbox_min();
+  for (int a = 0; a < 3; ++a)
+    if (std::isfinite(mirror_planes[a]))
+      extent[a] = 2 * std::max(std::abs(mesh.bbox_max()[a] - mirror_planes[a]),
+                               std::abs(mesh.bbox_min()[a] - mirror_planes[a]));
   std::array<int, 3> axes{0, 1, 2};
   std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return extent[a] > extent[b]; });
 
@@ -198,6 +203,29 @@ std::vector<Complex> solve_smoothness(const SurfaceMesh& mesh, const Orientation
     } else if (vf >= 0) {
       rhs.segment<2>(2 * vf) += R.transpose() * vec2(fixed_value[size_t(g)]);
     }
+  }
+  // Symmetry planes: across a boundary edge on a plane the whole has the face's mirror image, whose
+  // field is the reflected one — in the edge's frame the conjugate of v_f = u_f e^(−iN θ_e). The
+  // whole's edge term |v̄_f − v_f|² = 4 Im(v_f)² is shared by the half and its image: 2 Im(v_f)²
+  // here, so that the half's energy is the symmetric whole's over 2 (Im v = w · x_f, w = (−sin Nθ_e,
+  // cos Nθ_e)).
+  const std::vector<bool>& on_boundary = mesh.is_boundary_vertex();
+  const double plane_tol = 1e-6 * (mesh.bbox_max() - mesh.bbox_min()).norm();
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const int f = EF(e, 0);
+    if (EF(e, 1) >= 0 || var[size_t(f)] < 0) continue;
+    const int a0 = mesh.edges()(e, 0), a1 = mesh.edges()(e, 1);
+    if (!on_boundary[size_t(a0)] || !on_boundary[size_t(a1)]) continue;
+    bool on_plane = false;
+    for (int a = 0; a < 3; ++a)
+      on_plane = on_plane || (std::isfinite(options.mirror_planes[a]) &&
+                              std::abs(V(a0, a) - options.mirror_planes[a]) <= plane_tol &&
+                              std::abs(V(a1, a) - options.mirror_planes[a]) <= plane_tol);
+    if (!on_plane) continue;
+    const Vec3 edge = (V.row(a1) - V.row(a0)).transpose();
+    const double alpha = N * angle_in(edge, E1[size_t(f)], E2[size_t(f)]);
+    const Eigen::Vector2d w(-std::sin(alpha), std::cos(alpha));
+    add_block(var[size_t(f)], var[size_t(f)], 2.0 * w * w.transpose());
   }
   const double lambda = options.stroke_weight;
   for (int f : stroke_faces) {
@@ -297,7 +325,7 @@ OrientationField::OrientationField(const SurfaceMesh& mesh, const FaceBvh& bvh,
   const std::vector<Complex> target = stroke_targets(mesh, bvh, options, N, E1, E2, m_stroke_faces);
   std::vector<int> fixed;
   std::vector<Complex> fixed_value;
-  anchor_free_components(mesh, m_stroke_faces, N, E1, E2, fixed, fixed_value);
+  anchor_free_components(mesh, m_stroke_faces, N, E1, E2, options.mirror_planes, fixed, fixed_value);
   const std::vector<Complex> u = solve_smoothness(mesh, options, N, E1, E2, m_stroke_faces, target, fixed, fixed_value);
 
   // ---- 4. per-face directions.

@@ -38,6 +38,11 @@ struct OrientationFieldOptions {
   double stroke_weight = 10.0;         ///< λ, soft alignment weight (per constrained face)
   /// Faces within this distance (m) of a stroke are constrained; 0: the mean edge length.
   double stroke_band = 0.0;
+  /// The symmetry planes the mesh is the half (quarter) of (LoadCase::symmetry_planes: x = .x(), …;
+  /// NaN where none): the anchor's axis is the whole's longest (the half of a square plate keeps the
+  /// whole's orientation), and across each boundary edge on a plane the smoothness sees the face's
+  /// mirror image (the reflected field), so that the half's field is the symmetric whole's.
+  Vec3 mirror_planes = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 /// The orientation field; as a TangentField it gives stencil frames their tangent t (paper

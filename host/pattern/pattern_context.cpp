@@ -119,6 +119,7 @@ PatternContext::PatternContext(const Scene& scene, const SceneMeshes& meshes)
   fo.symmetry = m_symmetry;
   fo.strokes = ps.strokes;
   fo.stroke_weight = ps.stroke_weight;
+  fo.mirror_planes = planes;
   // On symmetry planes the pattern sees its mirror images across them.
   m_surface = std::make_unique<PatternSurface>(mesh, fo, std::move(sizing), reach, planes);
   m_epsilon = ps.epsilon * m_surface->length();

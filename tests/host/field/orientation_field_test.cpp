@@ -1,6 +1,7 @@
 // The orientation field: constant on a flat plate without strokes, smooth on curved shapes,
 // aligned to sketch strokes (within 5° near a stroke), exact tangent Jacobian, and the
 // symmetry helpers.
+#include <complex>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 
 #include "host/core/error.h"
 #include "host/field/orientation_field.h"
+#include "host/mesh/mirror.h"
 #include "host/pattern/random.h"
 #include "host/surfaces/generators.h"
 #include "host/stencil/stencil_shape.h"
@@ -120,6 +122,60 @@ TEST(OrientationField, SketchStrokeAlignmentWithin5Degrees) {
     EXPECT_LT(worst * 180 / std::numbers::pi, 5.0) << "N = " << N;
     EXPECT_GT(worst0 * 180 / std::numbers::pi, 5.0) << "N = " << N << ": the stroke test would pass without a stroke";
   }
+}
+
+TEST(OrientationField, AHalfOnASymmetryPlaneHasItsWholesField) {
+  // A curved surface symmetric about y = 0 and a stroke on its half y ≥ 0: the whole (the half and
+  // its mirror image, the stroke and its image) has a symmetric field, which the half solved with its
+  // plane must reproduce face by face; with the plane a free boundary it does not.
+  const SurfaceMesh flat = test::flat_plate(0.2, 0.08, 0.006);
+  RowMatX3d v = flat.vertices();
+  for (int i = 0; i < v.rows(); ++i) {
+    const double x = v(i, 0) - 0.1, y = v(i, 1);
+    v(i, 2) = 1.5 * x * x - 4.0 * y * y + 0.8 * x * y * y;  // even in y
+  }
+  const SurfaceMesh half(v, flat.faces(), "half");
+  const MirroredMesh m = mirror_across_plane(v, flat.faces(), 1, 0.0, 1e-12);
+  const SurfaceMesh whole(m.vertices, m.faces, "whole");
+  const FaceBvh half_bvh(half), whole_bvh(whole);
+  auto on = [&](double x, double y) { return Vec3(x, y, 1.5 * (x - 0.1) * (x - 0.1) - 4.0 * y * y + 0.8 * (x - 0.1) * y * y); };
+  std::vector<Vec3> stroke;
+  for (int k = 0; k <= 8; ++k) stroke.push_back(on(0.03 + 0.018 * k, 0.02 + 0.04 * std::sin(0.3 * k)));
+  std::vector<Vec3> image = stroke;
+  for (Vec3& p : image) p.y() = -p.y();
+  for (int N : {1, 4, 5}) {
+    OrientationFieldOptions o;
+    o.symmetry = N;
+    o.strokes = {SketchStroke{stroke}};
+    OrientationFieldOptions ow = o;
+    ow.strokes.push_back(SketchStroke{image});
+    OrientationFieldOptions oh = o;
+    oh.mirror_planes = Vec3(NAN, 0.0, NAN);
+    const OrientationField fw(whole, whole_bvh, ow), fh(half, half_bvh, oh), free_half(half, half_bvh, o);
+    double worst = 0, worst_free = 0;
+    for (int f = 0; f < half.num_faces(); ++f) {
+      const std::complex<double> uw = std::polar(1.0, N * fw.face_angles()[f]);
+      worst = std::max(worst, std::abs(std::polar(1.0, N * fh.face_angles()[f]) - uw));
+      worst_free = std::max(worst_free, std::abs(std::polar(1.0, N * free_half.face_angles()[f]) - uw));
+    }
+    EXPECT_LT(worst, 1e-8) << "N = " << N;
+    EXPECT_GT(worst_free, 1e-3) << "N = " << N << ": the free half would pass";
+  }
+}
+
+TEST(OrientationField, TheHalfOfASquarePlateKeepsTheWholesAxis) {
+  // The half of a 0.2 m square plate is 0.2 (y) × 0.1 (x): alone its field runs along y; as the half
+  // on the plane x = 0 it runs along x, as the whole's does.
+  SurfaceMesh half = test::flat_plate(0.1, 0.2, 0.01);
+  const FaceBvh bvh(half);
+  OrientationFieldOptions o;
+  o.symmetry = 2;
+  const OrientationField alone(half, bvh, o);
+  o.mirror_planes = Vec3(0.0, NAN, NAN);
+  const OrientationField as_half(half, bvh, o);
+  const SurfacePoint p{0, Vec3::Constant(1.0 / 3)};
+  EXPECT_LT(angle_mod(alone.direction(p), Vec3::UnitY(), Vec3::UnitZ(), 2), 1e-9);
+  EXPECT_LT(angle_mod(as_half.direction(p), Vec3::UnitX(), Vec3::UnitZ(), 2), 1e-9);
 }
 
 TEST(OrientationField, StrokeFarFromTheSurfaceIsAnError) {
