@@ -210,8 +210,8 @@ DetNeighborhood det_match_one(const DetExemplar& ex, const PatternSurface& surfa
 }
 
 std::vector<DetNeighborhood> det_match(const DetExemplar& ex, const PatternSurface& surface,
-                                       const StencilLayout& layout) {
-  const int S = int(layout.size());
+                                       const StencilLayout& layout, int centres) {
+  const int S = centres >= 0 ? std::min(centres, int(layout.size())) : int(layout.size());
   std::vector<DetNeighborhood> hoods(static_cast<size_t>(S));
   if (S == 0) return hoods;
   const RowMatX3d pos = layout_positions(layout);

@@ -99,8 +99,10 @@ DetNeighborhood det_match_one(const DetExemplar& ex, const PatternSurface& surfa
                               const StencilLayout& layout, int i, const std::vector<int>& neighbors);
 
 /// Matches every stencil (TBB-parallel over stencils; the result does not depend on threads).
+/// With `centres` ≥ 0 only the first `centres` stencils are matched (one neighbourhood each); the
+/// rest of `layout` are neighbours only (the mirror images across symmetry planes, pattern_energy.h).
 std::vector<DetNeighborhood> det_match(const DetExemplar& ex, const PatternSurface& surface,
-                                       const StencilLayout& layout);
+                                       const StencilLayout& layout, int centres = -1);
 
 /// The DET energy (6) for frozen neighbourhoods at `positions` (#S×3, on the surface) and
 /// `scales` (#S); gradients accumulated (+=) into d_positions (#S×3) and d_scales (#S)

@@ -12,7 +12,36 @@ PatternEnergy::PatternEnergy(const PatternSurface& surface, const PatternEnergyS
 }
 
 void PatternEnergy::rematch(const StencilLayout& layout) {
-  if (m_settings.kind == PatternKind::Exemplar) m_hoods = det_match(*m_exemplar, *m_surface, layout);
+  if (m_settings.kind != PatternKind::Exemplar) return;
+  m_matched = int(layout.size());
+  m_image_sources.clear();
+  const PatternMirror& mirror = m_surface->mirror();
+  if (!mirror.any()) {
+    m_hoods = det_match(*m_exemplar, *m_surface, layout);
+    return;
+  }
+  // The layout and the images within a neighbourhood's radius of it; only the layout is matched.
+  const double reach =
+      m_exemplar->radius() * m_exemplar->settings().sigma * m_surface->sizing().max_value();
+  StencilLayout with_images = layout;
+  for (int k = 0; k < mirror.num_reflections(); ++k)
+    for (int j = 0; j < int(layout.size()); ++j) {
+      if (mirror.reach_of_image(layout[size_t(j)].position, k) > reach) continue;
+      PlacedStencil image = layout[size_t(j)];
+      image.position = mirror.image(image.position, k);
+      with_images.push_back(image);
+      m_image_sources.emplace_back(j, k);
+    }
+  m_hoods = det_match(*m_exemplar, *m_surface, with_images, m_matched);
+}
+
+int PatternEnergy::vote_types(StencilLayout& layout) const {
+  if (m_image_sources.empty()) return det_vote_types(*m_exemplar, m_hoods, layout);
+  std::vector<DetNeighborhood> hoods = m_hoods;
+  for (DetNeighborhood& h : hoods)
+    for (int& j : h.outputs)
+      if (j >= m_matched) j = m_image_sources[size_t(j - m_matched)].first;
+  return det_vote_types(*m_exemplar, hoods, layout);
 }
 
 double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales,
@@ -70,7 +99,40 @@ double PatternEnergy::evaluate(const RowMatX3d& q, const Eigen::VectorXd& scales
                    : std::vector<ImagePair>{};
   if (!packing) {
     t.det = weighted(1.0, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {
-      return det_objective(*m_exemplar, m_hoods, c, scales, types, pq, ps);
+      if (m_image_sources.empty()) return det_objective(*m_exemplar, m_hoods, c, scales, types, pq, ps);
+      // The neighbourhoods hold images: evaluate on the layout and its images, then take the images'
+      // gradients back through their reflections.
+      if (S != m_matched) throw InternalError("PatternEnergy: evaluated on a layout it was not matched on");
+      const int I = int(m_image_sources.size());
+      RowMatX3d ca(S + I, 3);
+      Eigen::VectorXd sa(S + I);
+      Eigen::VectorXi ta(S + I);
+      ca.topRows(S) = c;
+      sa.head(S) = scales;
+      ta.head(S) = types;
+      for (int n = 0; n < I; ++n) {
+        const auto [j, k] = m_image_sources[size_t(n)];
+        ca.row(S + n) = mirror.image(c.row(j).transpose(), k).transpose();
+        sa[S + n] = scales[j];
+        ta[S + n] = types[j];
+      }
+      RowMatX3d ga;
+      Eigen::VectorXd gsa;
+      if (pq) {
+        ga = RowMatX3d::Zero(S + I, 3);
+        gsa = Eigen::VectorXd::Zero(S + I);
+      }
+      const double v = det_objective(*m_exemplar, m_hoods, ca, sa, ta, pq ? &ga : nullptr, pq ? &gsa : nullptr);
+      if (pq) {
+        *pq += ga.topRows(S);
+        *ps += gsa.head(S);
+        for (int n = 0; n < I; ++n) {
+          const auto [j, k] = m_image_sources[size_t(n)];
+          pq->row(j) += ga.row(S + n).cwiseProduct(mirror.flip(k).transpose());
+          (*ps)[j] += gsa[S + n];
+        }
+      }
+      return v;
     });
   }
   t.collision = weighted(st.admissibility * st.weights.collision, &gc, [&](RowMatX3d* pq, Eigen::VectorXd* ps) {

@@ -63,9 +63,17 @@ class PatternEnergy {
   /// See PatternEnergySettings::gap.
   void set_gap(double gap) { m_settings.gap = gap; }
   /// DET: matches every stencil of `layout` and freezes the neighbourhoods and frames used by
-  /// evaluate() until the next call (the alternation of §4.2/MWT11). Packing: nothing.
+  /// evaluate() until the next call (the alternation of §4.2/MWT11). Packing: nothing. On symmetry
+  /// planes a neighbourhood holds the mirror images within its radius too (their indices follow the
+  /// layout's: S + n for image_sources()[n]), so that the half matches as its whole does.
   void rematch(const StencilLayout& layout);
   const std::vector<DetNeighborhood>& neighborhoods() const { return m_hoods; }
+  /// The images the neighbourhoods hold: (stencil, reflection) per index S + n.
+  const std::vector<std::pair<int, int>>& image_sources() const { return m_image_sources; }
+  /// DET's type vote (det_vote_types) with a vote for an image counted for its stencil (in the whole,
+  /// the image's neighbourhoods vote for the stencil as the stencil's vote for the image). Returns
+  /// the number of changes.
+  int vote_types(StencilLayout& layout) const;
 
   /// P at unprojected positions q (#S×3) and scales (#S), types (#S; DET type terms).
   /// Gradients are written (not accumulated) into d_q (#S×3) and d_scales (#S) when not null.
@@ -80,6 +88,8 @@ class PatternEnergy {
   PatternEnergySettings m_settings;
   const DetExemplar* m_exemplar;
   std::vector<DetNeighborhood> m_hoods;
+  int m_matched = 0;  ///< the layout's size at the last rematch
+  std::vector<std::pair<int, int>> m_image_sources;
 };
 
 }  // namespace cutwork

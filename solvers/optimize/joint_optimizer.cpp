@@ -254,7 +254,7 @@ void optimize_pattern(PatternContext& ctx, StencilLayout& layout, const JointOpt
       energy.rematch(layout);
       matched = true;  // MWT11: match, vote, then optimise against this matching
       for (size_t i = 0; i < layout.size(); ++i) st.matched_types[i] = layout[i].type;
-      const int changes = det_vote_types(*ctx.exemplar(), energy.neighborhoods(), layout);
+      const int changes = energy.vote_types(layout);
       stats.type_changes += changes;
       // Converged without moving and no vote changed a type: the next round would start from
       // the same point, whatever the (possibly tie-broken differently) matching.

@@ -333,6 +333,94 @@ TEST(PatternMirror, PatternEnergyOfAHalfIsTheWholesShare) {
   EXPECT_TRUE(test::gradient_matches(f, x, 1e-7 * r, 1e-5, "pattern energy on a symmetry plane"));
 }
 
+TEST(PatternMirror, DetNeighbourhoodsReachAcrossThePlane) {
+  // DET on a half plate: a stencil's neighbourhood holds the images within its radius, so it is
+  // matched as the same stencil of the mirrored whole is (same neighbours, exemplar element, rotation
+  // and cost); the energy's gradient through the images by central differences; the type vote
+  // counts an image's votes for its stencil.
+  const double w = 0.12, h = 0.06;
+  const Vec3 planes(kNaN, 0.0, kNaN);
+  const SurfaceMesh half = test::flat_plate(w, h, 0.004);
+  const SurfaceMesh whole = mirrored_whole(half, planes);
+  OrientationFieldOptions fo;
+  fo.mirror_planes = planes;
+  PatternSurface surface(half, fo, SizingField(Eigen::VectorXd::Ones(half.num_vertices())), 0.02, planes);
+  PatternSurface whole_surface(whole, OrientationFieldOptions{}, SizingField(Eigen::VectorXd::Ones(whole.num_vertices())),
+                               0.02);
+  DetSettings ds;
+  ds.sigma = 0.03;
+  ds.unit = ds.sigma * 0.06;
+  ds.safety = 0.2;
+  const Exemplar ex = builtin_exemplar("mix");
+  std::vector<int> types(ex.type_names.size());
+  for (size_t t = 0; t < types.size(); ++t) types[t] = int(t);
+  const DetExemplar det(ex, types, ds);
+  PatternRng rng(4);
+  StencilLayout layout;
+  det_grow(det, surface, layout, rng, DetGrowthOptions{});
+  const int S = int(layout.size());
+  ASSERT_GT(S, 20);
+  StencilLayout whole_layout = layout;
+  for (const PlacedStencil& p : layout) {
+    PlacedStencil m = p;
+    m.position = surface.mirror().image(p.position, 0);
+    m.where = whole_surface.project(m.position).where;
+    whole_layout.push_back(m);
+  }
+  PatternEnergySettings es;
+  es.kind = PatternKind::Exemplar;
+  es.unit = ds.unit;
+  es.safety = ds.safety;
+  PatternEnergy energy(surface, es, &det), whole_energy(whole_surface, es, &det);
+  energy.rematch(layout);
+  whole_energy.rematch(whole_layout);
+  ASSERT_FALSE(energy.image_sources().empty());
+  int across = 0;
+  for (int i = 0; i < S; ++i) {
+    const DetNeighborhood& a = energy.neighborhoods()[size_t(i)];
+    const DetNeighborhood& b = whole_energy.neighborhoods()[size_t(i)];
+    ASSERT_EQ(a.outputs.size(), b.outputs.size()) << "stencil " << i;
+    EXPECT_EQ(a.center, b.center) << "stencil " << i;
+    EXPECT_EQ(a.rotation, b.rotation) << "stencil " << i;
+    EXPECT_NEAR(a.cost, b.cost, 1e-9 * std::max(1.0, b.cost)) << "stencil " << i;
+    across += std::any_of(a.outputs.begin(), a.outputs.end(), [&](int j) { return j >= S; });
+  }
+  EXPECT_GT(across, 3);
+
+  RowMatX3d q = layout_positions(layout);
+  const Eigen::VectorXd scales = layout_scales(layout);
+  const Eigen::VectorXi t = layout_types(layout);
+  for (int i = 0; i < S; ++i) q(i, 0) += 0.05 * ds.unit * std::sin(3.0 * i);  // off the matched positions
+  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* g) {
+    RowMatX3d qq(S, 3);
+    for (int i = 0; i < S; ++i) qq.row(i) = x.segment(3 * i, 3).transpose();
+    RowMatX3d dq;
+    Eigen::VectorXd dsc;
+    PatternTerms terms;
+    energy.evaluate(qq, x.tail(S), t, g ? &dq : nullptr, g ? &dsc : nullptr, &terms);
+    if (g) {  // the whole energy: DET with its images, collision, plane and boundary terms
+      g->resize(4 * S);
+      for (int i = 0; i < S; ++i) g->segment(3 * i, 3) = dq.row(i).transpose();
+      g->tail(S) = dsc;
+    }
+    return terms.total();
+  };
+  Eigen::VectorXd x(4 * S);
+  for (int i = 0; i < S; ++i) x.segment(3 * i, 3) = q.row(i).transpose();
+  x.tail(S) = scales;
+  EXPECT_TRUE(test::gradient_matches(f, x, 1e-7 * ds.unit, 1e-5, "DET energy with images"));
+
+  // The vote: as in the whole, where an image's neighbourhood votes for the stencil as the stencil's
+  // does for the image when the match is mirrored. The whole's image neighbourhoods are matched to
+  // the exemplar itself, not its mirror image, so with the chiral "mix" a few votes differ (4 of 402).
+  StencilLayout voted = layout, whole_voted = whole_layout;
+  energy.vote_types(voted);
+  det_vote_types(det, whole_energy.neighborhoods(), whole_voted);
+  int same = 0;
+  for (int i = 0; i < S; ++i) same += voted[size_t(i)].type == whole_voted[size_t(i)].type;
+  EXPECT_GE(same, 0.98 * S);
+}
+
 TEST(PatternMirror, TheAutomaticScaleAndEpsilonOfAHalfAreTheWholes) {
   // The built-in plate and its half on the plane y = −0.025: the same ℓ and ε, so the half's
   // design has the whole's stencils.
