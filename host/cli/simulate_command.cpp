@@ -184,7 +184,8 @@ void run_simulate(const SimulateOptions& opts) {
     const Eigen::VectorXd* weight = shell.cell_filter().identity() ? nullptr : &shell.cell_filter().blend();
     estimate = solvers::estimate_discretisation(scene, refined, held, model.mechanics(), summary,
                                                 solvers::simulation_edge_length(scene, meshes), meshes.sim,
-                                                &displacement, solvers::coarse_peak_inputs_on(meshes.sim, weight, shell.cover()));
+                                                &displacement, solvers::coarse_peak_inputs_on(meshes.sim, weight, shell.cover()),
+                                                &summary.peak_energy_density);
     timings.add("discretisation", sw.seconds());
     if (!estimate->converged) notes.push_back(solvers::discretisation_line(*estimate));
     if (const std::string peak = solvers::peak_discretisation_note(*estimate); !peak.empty()) notes.push_back(peak);

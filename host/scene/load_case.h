@@ -223,4 +223,17 @@ inline std::vector<bool> supported_vertices(const LoadCase& lc) {
   return out;
 }
 
+/// #V: vertices that a support other than a symmetry plane holds along at least one axis — where a
+/// clamped corner or a point support can make the exact field singular (a symmetry plane's hold is
+/// the mirror image's continuation, not a support's edge).
+inline std::vector<bool> support_held_vertices(const LoadCase& lc) {
+  std::vector<bool> out = lc.fixed;
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    const std::uint8_t held = v < lc.held_axes.size() ? lc.held_axes[v] : 0;
+    const std::uint8_t mirror = v < lc.symmetry_axes.size() ? lc.symmetry_axes[v] : 0;
+    out[v] = out[v] || (v < lc.clamped.size() && lc.clamped[v]) || (held & ~mirror) != 0;
+  }
+  return out;
+}
+
 }  // namespace cutwork

@@ -13,6 +13,7 @@
 #include "host/core/work_limits.h"
 #include "host/mesh/bvh.h"
 #include "host/mesh/mesh_mapping.h"
+#include "host/pattern/point_grid.h"
 #include "host/surfaces/generators.h"
 
 namespace cutwork::solvers {
@@ -35,6 +36,36 @@ void locate_peak(DiscretisationLevel& level, const SurfaceMesh& mesh, const std:
     level.W_peak_at_support = level.W_peak_at_support || supported[std::size_t(v)];
   }
 }
+
+}  // namespace
+
+double peak_away_from_supports(const SurfaceMesh& mesh, const Eigen::VectorXd& field, const std::vector<bool>& material,
+                               const std::vector<bool>& held, double clearance, int* face) {
+  std::vector<int> held_ids;
+  for (int v = 0; v < int(held.size()); ++v)
+    if (held[size_t(v)]) held_ids.push_back(v);
+  RowMatX3d points(Eigen::Index(held_ids.size()), 3);
+  for (size_t k = 0; k < held_ids.size(); ++k) points.row(Eigen::Index(k)) = mesh.vertices().row(held_ids[k]);
+  const PointGrid grid = held_ids.empty() ? PointGrid() : PointGrid(points, std::max(clearance, 1e-12));
+  double best = NAN;
+  int best_face = -1;
+  std::vector<int> near;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    if (!material[size_t(f)] || (best_face >= 0 && !(field[f] > best))) continue;
+    const Vec3 c = (mesh.vertices().row(mesh.faces()(f, 0)) + mesh.vertices().row(mesh.faces()(f, 1)) +
+                    mesh.vertices().row(mesh.faces()(f, 2))).transpose() / 3.0;
+    if (!held_ids.empty()) {
+      grid.in_ball(c, clearance, near);
+      if (!near.empty()) continue;
+    }
+    best = field[f];
+    best_face = f;
+  }
+  if (face) *face = best_face;
+  return best;
+}
+
+namespace {
 
 /// The estimate of C_h = values[0] from levels that have not settled: (|C_h − C_finest| + the larger
 /// of the finest three's differences) / |C_finest|.
@@ -187,7 +218,8 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
                                                const SurfaceMesh& coarse_mesh, const RowMatX3d* coarse_displacement,
-                                               const PeakInputsOnMesh& peak_on) {
+                                               const PeakInputsOnMesh& peak_on, const Eigen::VectorXd* coarse_peak) {
+  const bool free_peak = peak_on && coarse_peak && coarse_peak->size() == coarse_mesh.num_faces();
   const DiscretisationOptions& options = refined.options();
   DiscretisationEstimate e;
   e.tolerance = options.tolerance;
@@ -196,7 +228,10 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     const LoadCase lc = resolve_load_case(scene, coarse_mesh);
     e.levels.push_back({coarse_edge_length, coarse_mesh.num_faces(), coarse, support_extent(coarse_mesh, supported_vertices(lc)),
                         support_extent(coarse_mesh, lc.clamped)});
-    if (peak_on) locate_peak(e.levels.back(), coarse_mesh, supported_vertices(lc));
+    if (peak_on) locate_peak(e.levels.back(), coarse_mesh, support_held_vertices(lc));
+    if (free_peak)
+      e.levels.back().W_peak_free = peak_away_from_supports(coarse_mesh, *coarse_peak, material_faces(fill_on(coarse_mesh)),
+                                                            support_held_vertices(lc), coarse_edge_length);
   }
   e.support_change = 0;
   std::vector<double> compliances{coarse.compliance};
@@ -227,12 +262,16 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
     previous = &r->mesh;
     previous_u = solver.displacements();
     const PeakInputs peak = peak_on ? peak_on(r->mesh) : PeakInputs{};
-    e.levels.push_back({r->edge_length, r->mesh.num_faces(),
-                        summarize_equilibrium(model, solver.positions(), alpha, peak.weight.size() ? &peak.weight : nullptr,
-                                              peak.cover.empty() ? nullptr : &peak.cover),
-                        support_extent(r->mesh, supported_vertices(lc)), support_extent(r->mesh, lc.clamped),
-                        stats.newton_iterations, stats.warm_started && !stats.cold_restarted});
-    if (peak_on) locate_peak(e.levels.back(), r->mesh, supported_vertices(lc));
+    const EquilibriumSummary summary =
+        summarize_equilibrium(model, solver.positions(), alpha, peak.weight.size() ? &peak.weight : nullptr,
+                              peak.cover.empty() ? nullptr : &peak.cover);
+    e.levels.push_back({r->edge_length, r->mesh.num_faces(), summary, support_extent(r->mesh, supported_vertices(lc)),
+                        support_extent(r->mesh, lc.clamped), stats.newton_iterations,
+                        stats.warm_started && !stats.cold_restarted});
+    if (peak_on) locate_peak(e.levels.back(), r->mesh, support_held_vertices(lc));
+    if (free_peak && summary.peak_energy_density.size() == r->mesh.num_faces())
+      e.levels.back().W_peak_free = peak_away_from_supports(r->mesh, summary.peak_energy_density, material_faces(alpha),
+                                                            support_held_vertices(lc), coarse_edge_length);
     compliances.push_back(e.levels.back().quantities.compliance);
     e.support_change = std::max({e.support_change, support_extent_change(e.levels.front().fixed, e.levels.back().fixed, coarse_edge_length),
                                  support_extent_change(e.levels.front().clamped, e.levels.back().clamped, coarse_edge_length)});
@@ -254,6 +293,8 @@ DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMes
   e.W_peak_levels = bool(peak_on);
   if (peak_on && std::isfinite(coarse.W_peak_max) && std::isfinite(half.W_peak_max))
     e.W_peak_change = relative_change(coarse.W_peak_max, half.W_peak_max);
+  if (std::isfinite(e.levels[0].W_peak_free) && std::isfinite(e.levels[1].W_peak_free))
+    e.W_peak_free_change = relative_change(e.levels[0].W_peak_free, e.levels[1].W_peak_free);
   e.max_displacement_change = relative_change(coarse.max_displacement, half.max_displacement);
   e.converged = e.estimated_error <= e.tolerance && e.supports_consistent;
   return e;
@@ -313,7 +354,12 @@ std::string discretisation_line(const DiscretisationEstimate& e) {
                         "mesh.sim_edge_length, e.g. {:.3g} m, is closer)",
                         e.levels.back().edge_length),
       100 * e.W_max_change,
-      std::isfinite(e.W_peak_change) ? fmt::format(", W_peak by {:.1f}%", 100 * e.W_peak_change) : std::string());
+      std::isfinite(e.W_peak_change)
+          ? fmt::format(", W_peak by {:.1f}%{}", 100 * e.W_peak_change,
+                        e.levels.back().W_peak_at_support && std::isfinite(e.W_peak_free_change)
+                            ? fmt::format(" (at a support; away from the supports by {:.1f}%)", 100 * e.W_peak_free_change)
+                            : std::string())
+          : std::string());
 }
 
 std::string peak_discretisation_note(const DiscretisationEstimate& e, double tolerance) {
@@ -322,6 +368,18 @@ std::string peak_discretisation_note(const DiscretisationEstimate& e, double tol
   for (const DiscretisationLevel& l : e.levels)
     values += fmt::format("{}{:.4g} J/m^2 at {:.3g} m", values.empty() ? "" : ", ", l.quantities.W_peak_max, l.edge_length);
   const DiscretisationLevel& finest = e.levels.back();
+  // Away from the supports: the largest W_peak over the faces that touch none, by level.
+  const auto free_words = [&]() -> std::string {
+    if (!std::isfinite(e.W_peak_free_change)) return {};
+    std::string free;
+    for (const DiscretisationLevel& l : e.levels)
+      free += fmt::format("{}{:.4g}", free.empty() ? "" : ", ", l.W_peak_free);
+    const double to_finest = relative_change(e.levels.front().W_peak_free, e.levels.back().W_peak_free);
+    return fmt::format("; farther than {:.3g} m (the simulation mesh's edge length) from the supports it changes by "
+                       "{:.1f}% at half the edge length and {:.1f}% to the finest level ({} J/m^2){}",
+                       e.levels.front().edge_length, 100 * e.W_peak_free_change, 100 * to_finest, free,
+                       std::max(e.W_peak_free_change, to_finest) <= tolerance ? ", within the tolerance" : "");
+  };
   const std::string where = fmt::format("({:.3g}, {:.3g}, {:.3g})", finest.W_peak_position.x(),
                                         finest.W_peak_position.y(), finest.W_peak_position.z());
   return fmt::format(
@@ -330,8 +388,8 @@ std::string peak_discretisation_note(const DiscretisationEstimate& e, double tol
       100 * e.W_peak_change, 100 * tolerance, values,
       finest.W_peak_at_support
           ? fmt::format("; on the finest level it is at a support, {} m, where the exact energy density may be "
-                        "singular (a clamped corner, a point support) and a maximum need not converge",
-                        where)
+                        "singular (a clamped corner, a point support) and a maximum need not converge{}",
+                        where, free_words())
           : fmt::format("; on the finest level at {} m, where the field varies within a triangle (a hole the "
                         "triangles resolve has its rim's peak averaged over its rim faces); cutwork verify reads the "
                         "peak on conforming rims",
@@ -356,6 +414,7 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
                                                                        l.W_peak_position.z()})
                                               : nlohmann::json()},
                       {"W_peak_at_support", l.W_peak_at_support},
+                      {"W_peak_free", e.W_peak_levels ? number_or_null(l.W_peak_free) : nlohmann::json()},
                       {"max_displacement", l.quantities.max_displacement},
                       {"supports", {{"fixed", support_extent_json(l.fixed)}, {"clamped", support_extent_json(l.clamped)}}},
                       {"newton_iterations", l.newton_iterations >= 0 ? nlohmann::json(l.newton_iterations) : nlohmann::json()},
@@ -370,6 +429,7 @@ nlohmann::json discretisation_json(const DiscretisationEstimate& e) {
           {"compliance_change", number_or_null(e.compliance_change)},
           {"W_max_change", number_or_null(e.W_max_change)},
           {"W_peak_change", number_or_null(e.W_peak_change)},
+          {"W_peak_free_change", number_or_null(e.W_peak_free_change)},
           {"max_displacement_change", number_or_null(e.max_displacement_change)},
           {"support_change", number_or_null(e.support_change)},
           {"support_tolerance", e.support_tolerance},

@@ -127,10 +127,14 @@ struct DiscretisationLevel {
   int newton_iterations = -1;
   bool warm_started = false;
   /// Where W_peak is on this level (the centroid of its face, m; NaN where not read) and whether
-  /// that face touches a supported vertex (held along any axis): at a clamped corner or a point
-  /// support the exact energy density may be singular, and a maximum there need not converge.
+  /// that face touches a vertex a support holds along any axis (support_held_vertices: a symmetry
+  /// plane is no support here): at a clamped corner or a point support the exact energy density may
+  /// be singular, and a maximum there need not converge (W_peak_free leaves that region out).
   Vec3 W_peak_position = Vec3::Constant(NAN);
   bool W_peak_at_support = false;
+  /// W_peak away from the supports (peak_away_from_supports with the clearance h, the judged run's
+  /// edge length: one region on every level); NaN where not read or where no face is that far.
+  double W_peak_free = NAN;
 };
 
 struct DiscretisationEstimate {
@@ -144,6 +148,8 @@ struct DiscretisationEstimate {
   /// |W_peak,h − W_peak,h/2| / W_peak,h/2 (the ligament peak, read with the coarse run's factors on
   /// every level); NaN without peak inputs or concentration factors.
   double W_peak_change = NAN;
+  /// The same for W_peak away from the supports (DiscretisationLevel::W_peak_free).
+  double W_peak_free_change = NAN;
   bool W_peak_levels = false;               ///< the levels' W_peak was read (peak inputs given)
   double max_displacement_change = NAN;     ///< the same for the largest displacement
   double support_change = NAN;              ///< largest support_extent_change of a level from h
@@ -202,19 +208,32 @@ PeakInputsOnMesh coarse_peak_inputs_on(const SurfaceMesh& coarse, const Eigen::V
 /// level's Newton starts from it carried onto its mesh, and each later level from the last one's.
 /// With `peak_on` (the W_peak inputs the coarse run read, coarse_peak_inputs_on) each level's W_peak
 /// is read with them and its change from h to h/2 judged (W_peak_change); without it the levels'
-/// W_peak is not reported. Throws what the equilibrium throws (SolveError).
+/// W_peak is not reported. With `coarse_peak` too (the coarse run's W_peak field, #F of coarse_mesh)
+/// W_peak away from the supports is read on every level (W_peak_free, W_peak_free_change). Throws what the equilibrium throws (SolveError).
 DiscretisationEstimate estimate_discretisation(const Scene& scene, SimulationMeshRefinements& refined,
                                                const FillRatiosOnMesh& fill_on, const MechanicsSettings& mechanics,
                                                const EquilibriumScalars& coarse, double coarse_edge_length,
                                                const SurfaceMesh& coarse_mesh,
                                                const RowMatX3d* coarse_displacement = nullptr,
-                                               const PeakInputsOnMesh& peak_on = {});
+                                               const PeakInputsOnMesh& peak_on = {},
+                                               const Eigen::VectorXd* coarse_peak = nullptr);
+
+/// The largest of `field` (#F) over the faces of `material` (#F) whose centroid lies farther than
+/// `clearance` (m) from every vertex of `held` (#V; support_held_vertices): a maximum away from the
+/// supports, where a clamped corner or a point support can make the exact field singular, so that
+/// its maximum grows without bound under refinement. Held at one physical clearance — the simulation
+/// mesh's edge length h, the region its first ring of triangles covers — the region is the same on
+/// every level, and the maximum over it converges where the field is bounded there. NaN (face −1)
+/// when no face qualifies. A uniform grid over the held vertices (its brute-force twin in the tests).
+double peak_away_from_supports(const SurfaceMesh& mesh, const Eigen::VectorXd& field, const std::vector<bool>& material,
+                               const std::vector<bool>& held, double clearance, int* face = nullptr);
 
 /// report.json's `discretisation` object: method, levels [{edge_length, faces, compliance,
-/// strain_energy, W_max, W_peak (null where not read), max_displacement, supports {fixed, clamped: {area, length, points}},
+/// strain_energy, W_max, W_peak and W_peak_free (away from the supports; null where not read),
+/// W_peak_position, W_peak_at_support, max_displacement, supports {fixed, clamped: {area, length, points}},
 /// newton_iterations (null for h), warm_started}],
 /// support_change, supports_consistent, compliance_extrapolated, observed_order,
-/// compliance_error_bar, rule, estimated_error, compliance / W_max / W_peak / max_displacement changes from h
+/// compliance_error_bar, rule, estimated_error, compliance / W_max / W_peak / W_peak_free / max_displacement changes from h
 /// to h/2, tolerance, converged and a one-line `summary` (no times: the report's timings hold
 /// them, so that two runs of one design give the same object).
 nlohmann::json discretisation_json(const DiscretisationEstimate& e);
@@ -229,7 +248,9 @@ std::string discretisation_line(const DiscretisationEstimate& e);
 /// not converged on the simulation mesh (the zoom's settled change in cutwork verify is the same 5%).
 inline constexpr double kPeakDiscretisationTolerance = 0.05;
 
-/// That note (empty where W_peak_change is within `tolerance` or was not read): the levels' W_peak.
+/// That note (empty where W_peak_change is within `tolerance` or was not read): the levels' W_peak,
+/// and where the finest level's is at a support, W_peak away from the supports by level and whether
+/// that is within the tolerance.
 std::string peak_discretisation_note(const DiscretisationEstimate& e,
                                      double tolerance = kPeakDiscretisationTolerance);
 

@@ -215,7 +215,8 @@ DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const
         coarse_peak_inputs_on(meshes.sim,
                               result.final_design.concentration_weight.size() ? &result.final_design.concentration_weight
                                                                               : nullptr,
-                              result.final_design.cover.empty() ? nullptr : &result.final_design.cover));
+                              result.final_design.cover.empty() ? nullptr : &result.final_design.cover),
+        &result.final_design.summary.peak_energy_density);
     discretisation = {{"uncut", discretisation_json(uncut)},
                       {"final", discretisation_json(final_design)},
                       {"converged", uncut.converged && final_design.converged},

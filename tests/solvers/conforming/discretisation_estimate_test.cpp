@@ -163,6 +163,47 @@ TEST(DiscretisationEstimate, ThePeakInputsAreCarriedAsTheMaterialIs) {
   EXPECT_THROW(coarse_peak_inputs_on(sim, &short_weight, nullptr), InternalError);
 }
 
+TEST(DiscretisationEstimate, ThePeakAwayFromTheSupportsLeavesOneRegionOut) {
+  // peak_away_from_supports against its brute-force twin on the plate (clamped at x = −0.1) with a
+  // field that grows towards the clamp, at clearances of 0.5, 1 and 3 edge lengths; none held: the
+  // plain maximum; all held: none.
+  const Scene scene = load_scene("plate");
+  const SceneMeshes meshes = build_scene_meshes(scene);
+  const SurfaceMesh& m = meshes.sim;
+  const std::vector<bool> held = support_held_vertices(resolve_load_case(scene, m));
+  Eigen::VectorXd field(m.num_faces());
+  std::vector<bool> material(size_t(m.num_faces()), true);
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const Vec3 c = (m.vertices().row(m.faces()(f, 0)) + m.vertices().row(m.faces()(f, 1)) + m.vertices().row(m.faces()(f, 2))).transpose() / 3;
+    field[f] = 1.0 / (0.001 + c.x() + 0.1) + 0.1 * std::sin(37.0 * f);
+    material[size_t(f)] = f % 7 != 0;
+  }
+  const double h = simulation_edge_length(scene, meshes);
+  for (double clearance : {0.5 * h, h, 3 * h}) {
+    double expected = NAN;
+    int expected_face = -1;
+    for (int f = 0; f < m.num_faces(); ++f) {
+      if (!material[size_t(f)]) continue;
+      const Vec3 c = (m.vertices().row(m.faces()(f, 0)) + m.vertices().row(m.faces()(f, 1)) + m.vertices().row(m.faces()(f, 2))).transpose() / 3;
+      bool near = false;
+      for (int v = 0; v < m.num_vertices(); ++v) near = near || (held[size_t(v)] && (m.vertices().row(v).transpose() - c).norm() <= clearance);
+      if (!near && (expected_face < 0 || field[f] > expected)) expected = field[f], expected_face = f;
+    }
+    int face = -2;
+    EXPECT_EQ(peak_away_from_supports(m, field, material, held, clearance, &face), expected) << clearance;
+    EXPECT_EQ(face, expected_face) << clearance;
+    EXPECT_LT(expected, field.maxCoeff());  // the clamp's faces are left out
+  }
+  int face = -2;
+  const std::vector<bool> none(size_t(m.num_vertices()), false), all(size_t(m.num_vertices()), true);
+  double plain = -INFINITY;
+  for (int f = 0; f < m.num_faces(); ++f)
+    if (material[size_t(f)]) plain = std::max(plain, field[f]);
+  EXPECT_EQ(peak_away_from_supports(m, field, material, none, h), plain);
+  EXPECT_TRUE(std::isnan(peak_away_from_supports(m, field, material, all, h, &face)));
+  EXPECT_EQ(face, -1);
+}
+
 TEST(DiscretisationEstimate, AMaterialHeldFixedIsJudgedByItsMesh) {
   // The plate cantilever with fill ratios varying along it (0.35–0.95), held on the refinements:
   // at the default 0.01 m the levels are one structure meshed again, and the estimate brackets the

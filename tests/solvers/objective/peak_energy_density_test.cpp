@@ -166,6 +166,16 @@ TEST(PeakEnergyDensity, EquilibriumSummaryCarriesWPeakMaxOnlyWithConcentrationSa
   EXPECT_GT(s.W_peak_max, s.W_max);  // every K exceeds 1
 }
 
+TEST(PeakEnergyDensity, ASymmetryPlaneIsNoSupportForThePeakAwayFromSupports) {
+  LoadCase lc;
+  lc.fixed = {true, false, false, false};
+  lc.clamped = {false, false, false, false};
+  lc.held_axes = {0, kHeldY, kHeldY | kHeldZ, 0};
+  lc.symmetry_axes = {0, kHeldY, kHeldY, 0};  // 1: on the plane y = c alone; 2: on it and held along z
+  EXPECT_EQ(supported_vertices(lc), (std::vector<bool>{true, true, true, false}));
+  EXPECT_EQ(support_held_vertices(lc), (std::vector<bool>{true, false, true, false}));
+}
+
 // K ramps from its dilute sample to 1 over [1 − δ, 1]: continuous at both ends, its slope the
 // derivative of the value (central differences), and 1 at α = 1 exactly.
 TEST(PeakEnergyDensity, ConcentrationRampsToOneNearTheUncutFaceWithAContinuousSlope) {
