@@ -21,20 +21,33 @@ PairTerm collision_pair(double d, double radii, double safety, double gap, doubl
   return {g * g, -2 * g * inv, 2 * g * (1 + safety) * inv};
 }
 
-/// Repulsion (3) at centre distance d (m); zero at and beyond ε and at d = 0.
-PairTerm repulsion_pair(double d_m, double epsilon, double inv) {
-  const double eps = epsilon * inv, d = d_m * inv;
-  if (!(d < eps) || !(d > 0)) return {};
+/// Repulsion (3) between points a and b (m): the value, and its gradient by a (m⁻¹) into `d_a`;
+/// zero at and beyond ε and at a = b. The distance is taken in ℓ units (the difference scaled before
+/// its norm: the order of the operations every design so far was computed with).
+double repulsion_pair(const Vec3& a, const Vec3& b, double epsilon, double inv, Vec3& d_a) {
+  const double eps = epsilon * inv;
+  const Vec3 dq = (a - b) * inv;
+  const double d = dq.norm();
+  d_a.setZero();
+  if (!(d < eps) || !(d > 0)) return 0.0;
   const double c = 1.0 / (eps * std::sqrt(2 * std::numbers::pi));
   const double shift = c * std::exp(-0.5) / (eps * eps);  // w(ε)/ε²
   const double w = c * std::exp(-d * d / (2 * eps * eps));
   // dO/dd = w'/d² − 2w/d³ with w' = −d w / ε² (d in ℓ units).
   const double dOdd = -w / (eps * eps * d) - 2 * w / (d * d * d);
-  return {w / (d * d) - shift, dOdd * inv, 0};
+  d_a = (dOdd * inv / d) * dq;
+  return w / (d * d) - shift;
 }
 
-/// Adds a pair term between points a and b (b = F c_j + const, F = diag(flip)) to the gradients
-/// of stencils i (a) and j (b), times `weight`.
+/// Adds the gradient `ga` of a pair term by its point a (stencil i's c_i) to stencils i and j, where
+/// the term's other point is b = F c_j + const (F = diag(flip): ∂/∂c_j = −F ga), times `weight`.
+void add_pair_gradient(const Vec3& ga, const Vec3& flip, int i, int j, double weight, RowMatX3d* d_positions) {
+  if (!d_positions) return;
+  d_positions->row(i) += (weight * ga).transpose();
+  d_positions->row(j) -= (weight * flip.cwiseProduct(ga)).transpose();
+}
+
+/// The same for a collision term (and its radii).
 void add_pair(const PairTerm& t, const Vec3& a, const Vec3& b, const Vec3& flip, int i, int j, double weight,
               RowMatX3d* d_positions, Eigen::VectorXd* d_scales) {
   if (d_scales && t.d_radius != 0) {
@@ -43,11 +56,7 @@ void add_pair(const PairTerm& t, const Vec3& a, const Vec3& b, const Vec3& flip,
   }
   const Vec3 ab = a - b;
   const double d = ab.norm();
-  if (d_positions && d > 0 && t.d_distance != 0) {
-    const Vec3 ga = (weight * t.d_distance / d) * ab;
-    d_positions->row(i) += ga.transpose();
-    d_positions->row(j) -= flip.cwiseProduct(ga).transpose();
-  }
+  if (d > 0 && t.d_distance != 0) add_pair_gradient((t.d_distance / d) * ab, flip, i, j, weight, d_positions);
 }
 
 }  // namespace
@@ -92,10 +101,9 @@ double repulsion_objective(const RowMatX3d& positions, double epsilon, double un
   const double inv = 1.0 / unit;
   double value = 0;
   for (const PointPair& pr : candidates) {
-    const Vec3 a = positions.row(pr.i).transpose(), b = positions.row(pr.j).transpose();
-    const PairTerm t = repulsion_pair((a - b).norm(), epsilon, inv);
-    value += t.value;
-    add_pair(t, a, b, Vec3::Ones(), pr.i, pr.j, 1.0, d_positions, nullptr);
+    Vec3 ga;
+    value += repulsion_pair(positions.row(pr.i).transpose(), positions.row(pr.j).transpose(), epsilon, inv, ga);
+    add_pair_gradient(ga, Vec3::Ones(), pr.i, pr.j, 1.0, d_positions);
   }
   return value;
 }
@@ -143,11 +151,10 @@ double image_repulsion_objective(const PatternMirror& mirror, const RowMatX3d& p
   const double inv = 1.0 / unit;
   double value = 0;
   for (const ImagePair& p : pairs) {
-    const Vec3 a = positions.row(p.i).transpose();
-    const Vec3 b = mirror.image(positions.row(p.j).transpose(), p.k);
-    const PairTerm t = repulsion_pair((a - b).norm(), epsilon, inv);
-    value += 0.5 * t.value;
-    add_pair(t, a, b, mirror.flip(p.k), p.i, p.j, 0.5, d_positions, nullptr);
+    Vec3 ga;
+    value += 0.5 * repulsion_pair(positions.row(p.i).transpose(), mirror.image(positions.row(p.j).transpose(), p.k),
+                                  epsilon, inv, ga);
+    add_pair_gradient(ga, mirror.flip(p.k), p.i, p.j, 0.5, d_positions);
   }
   return value;
 }
