@@ -31,6 +31,18 @@ nlohmann::json plate_scene() {
   return nlohmann::json::parse(r.out);
 }
 
+/// The built-in plate's half y ∈ [−0.025, 0.025] on its symmetry plane y = −0.025, with half the
+/// force on the plane: the whole plate (moved by −0.025 in y).
+nlohmann::json half_plate_scene() {
+  nlohmann::json half = plate_scene();
+  half["mesh"]["params"]["height"] = 0.05;
+  half["supports"].push_back(
+      {{"type", "symmetry"}, {"axis", "y"}, {"select", {{"entity", "vertices"}, {"y", {{"below", -0.0249999}}}}}});
+  half["loads"][0]["force"] = {0.0, 0.0, -0.5};
+  half["loads"][0]["select"]["near"]["point"] = {0.1, -0.025, 0.0};
+  return half;
+}
+
 void expect_failure_without_output(const std::string& args, const fs::path& out, const std::string& fragment) {
   const auto r = run_cutwork(args + " --out " + out.string());
   EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -115,12 +127,7 @@ TEST(CliSimulate, BadSupportsAndLoadsAreOneLineErrors) {
 // mesh continues across, is refused on one line.
 TEST(CliSimulate, AHalfOnASymmetryPlaneIsHalfTheWhole) {
   const fs::path dir = test::temp_dir("simulate_half");
-  nlohmann::json half = plate_scene();
-  half["mesh"]["params"]["height"] = 0.05;
-  half["supports"].push_back(
-      {{"type", "symmetry"}, {"axis", "y"}, {"select", {{"entity", "vertices"}, {"y", {{"below", -0.0249999}}}}}});
-  half["loads"][0]["force"] = {0.0, 0.0, -0.5};
-  half["loads"][0]["select"]["near"]["point"] = {0.1, -0.025, 0.0};
+  const nlohmann::json half = half_plate_scene();
   const fs::path half_file = dir / "half.json";
   std::ofstream(half_file) << half.dump(2);
   const auto h = run_cutwork("simulate " + half_file.string() + " --no-render --quiet --out " + (dir / "h").string());
@@ -153,12 +160,7 @@ TEST(CliSimulate, AHalfOnASymmetryPlaneIsDesignedAsItsWhole) {
   // and some nearer than the (1+s) r + g a boundary would ask; the minimum-feature check reads the
   // whole (no violation at the plane).
   const fs::path dir = test::temp_dir("design_half");
-  nlohmann::json half = plate_scene();
-  half["mesh"]["params"]["height"] = 0.05;
-  half["supports"].push_back(
-      {{"type", "symmetry"}, {"axis", "y"}, {"select", {{"entity", "vertices"}, {"y", {{"below", -0.0249999}}}}}});
-  half["loads"][0]["force"] = {0.0, 0.0, -0.5};
-  half["loads"][0]["select"]["near"]["point"] = {0.1, -0.025, 0.0};
+  const nlohmann::json half = half_plate_scene();
   const fs::path half_file = dir / "half.json";
   std::ofstream(half_file) << half.dump(2);
   const auto h = run_cutwork("design " + half_file.string() + " --device cpu --no-render --quiet --out " + (dir / "h").string());

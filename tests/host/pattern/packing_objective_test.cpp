@@ -23,35 +23,7 @@ void random_layout(int n, PatternRng& rng, double spread, RowMatX3d& q, Eigen::V
   }
 }
 
-/// Packs (q, r) into x and back.
-Eigen::VectorXd pack(const RowMatX3d& q, const Eigen::VectorXd& r) {
-  Eigen::VectorXd x(q.size() + r.size());
-  x.head(q.size()) = Eigen::Map<const Eigen::VectorXd>(q.data(), q.size());
-  x.tail(r.size()) = r;
-  return x;
-}
-void unpack(const Eigen::VectorXd& x, int n, RowMatX3d& q, Eigen::VectorXd& r) {
-  q = Eigen::Map<const RowMatX3d>(x.data(), n, 3);
-  r = x.tail(n);
-}
-
-using TermFn = std::function<double(const RowMatX3d&, const Eigen::VectorXd&, RowMatX3d*, Eigen::VectorXd*)>;
-
-::testing::AssertionResult check_term(const TermFn& term, const RowMatX3d& q0,
-                                      const Eigen::VectorXd& r0, double h, const std::string& what) {
-  const int n = int(q0.rows());
-  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* g) {
-    RowMatX3d q;
-    Eigen::VectorXd r;
-    unpack(x, n, q, r);
-    RowMatX3d gq = RowMatX3d::Zero(n, 3);
-    Eigen::VectorXd gr = Eigen::VectorXd::Zero(n);
-    const double v = term(q, r, g ? &gq : nullptr, g ? &gr : nullptr);
-    if (g) *g = pack(gq, gr);
-    return v;
-  };
-  return test::gradient_matches(f, pack(q0, r0), h, 1e-6, what);
-}
+using test::check_term;
 
 TEST(PackingObjective, CollisionGradient) {
   PatternRng rng(1);

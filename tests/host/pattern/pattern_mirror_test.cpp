@@ -136,7 +136,6 @@ TEST(PatternMirror, ImageTermsGradients) {
   // Central differences of every term with images (two planes), positions also beyond a plane
   // (the plane term's signed distance pushes them back).
   const double w = 0.1, h = 0.06, r = 0.006;
-  const SurfaceMesh half = test::flat_plate(w, h, 0.005);
   const PatternMirror mirror(Vec3(0.0, 0.0, kNaN), Vec3(w / 2, h / 2, 0));
   PatternRng rng(11);
   RowMatX3d q0;
@@ -144,39 +143,18 @@ TEST(PatternMirror, ImageTermsGradients) {
   layout_near_the_planes(24, w, h, r, rng, q0, s0);
   q0(1, 0) = -0.3 * r;  // beyond the plane x = 0
   q0(2, 2) = 0.2 * r;   // off the surface
-  const int S = int(q0.rows());
   const double unit = r, eps = 0.02, safety = 0.2, gap = 0.4 * r;
   const double cutoff = packing_cutoff(s0, safety, eps, gap) * 1.5;  // fixed while differencing
-  auto run = [&](int which) {
-    return [&, which](const Eigen::VectorXd& x, Eigen::VectorXd* g) {
-      RowMatX3d q(S, 3);
-      Eigen::VectorXd s = x.tail(S);
-      for (int i = 0; i < S; ++i) q.row(i) = x.segment(3 * i, 3).transpose();
-      RowMatX3d dq = RowMatX3d::Zero(S, 3);
-      Eigen::VectorXd ds = Eigen::VectorXd::Zero(S);
-      RowMatX3d* pq = g ? &dq : nullptr;
-      Eigen::VectorXd* ps = g ? &ds : nullptr;
-      const auto pairs = image_pairs(mirror, q, cutoff);
-      double v = 0;
-      if (which == 0) v = image_collision_objective(mirror, q, s, safety, unit, pairs, pq, ps, gap);
-      if (which == 1) v = plane_collision_objective(mirror, q, s, safety, unit, pq, ps, gap);
-      if (which == 2) v = image_repulsion_objective(mirror, q, eps, unit, pairs, pq);
-      if (g) {
-        g->resize(4 * S);
-        for (int i = 0; i < S; ++i) g->segment(3 * i, 3) = dq.row(i).transpose();
-        g->tail(S) = ds;
-      }
-      return v;
-    };
-  };
-  Eigen::VectorXd x(4 * S);
-  for (int i = 0; i < S; ++i) x.segment(3 * i, 3) = q0.row(i).transpose();
-  x.tail(S) = s0;
   const char* names[] = {"image collision", "plane collision", "image repulsion"};
   for (int which = 0; which < 3; ++which) {
-    Eigen::VectorXd g;
-    ASSERT_GT(std::abs(run(which)(x, &g)), 1e-3) << names[which] << " is not active";
-    EXPECT_TRUE(test::gradient_matches(run(which), x, 1e-7 * r, 1e-6, names[which]));
+    const test::TermFn term = [&](const RowMatX3d& q, const Eigen::VectorXd& s, RowMatX3d* pq, Eigen::VectorXd* ps) {
+      const auto pairs = image_pairs(mirror, q, cutoff);
+      if (which == 0) return image_collision_objective(mirror, q, s, safety, unit, pairs, pq, ps, gap);
+      if (which == 1) return plane_collision_objective(mirror, q, s, safety, unit, pq, ps, gap);
+      return image_repulsion_objective(mirror, q, eps, unit, pairs, pq);
+    };
+    ASSERT_GT(std::abs(term(q0, s0, nullptr, nullptr)), 1e-3) << names[which] << " is not active";
+    EXPECT_TRUE(test::check_term(term, q0, s0, 1e-7 * r, names[which]));
   }
 }
 
@@ -310,27 +288,12 @@ TEST(PatternMirror, PatternEnergyOfAHalfIsTheWholesShare) {
   EXPECT_NEAR(2 * part.repulsion, all.repulsion, 1e-11 * std::abs(all.repulsion));
   EXPECT_NEAR(2 * v, vw, 1e-11 * std::abs(vw));
 
-  const int S = int(q.rows());
   q(0, 2) = 0.1 * r;   // off the surface: the tether
   q(1, 1) = -0.2 * r;  // beyond the plane: the plane term at q
-  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* g) {
-    RowMatX3d qq(S, 3);
-    for (int i = 0; i < S; ++i) qq.row(i) = x.segment(3 * i, 3).transpose();
-    RowMatX3d dq;
-    Eigen::VectorXd ds;
-    const double val = energy.evaluate(qq, x.tail(S), Eigen::VectorXi::Zero(S), g ? &dq : nullptr,
-                                       g ? &ds : nullptr);
-    if (g) {
-      g->resize(4 * S);
-      for (int i = 0; i < S; ++i) g->segment(3 * i, 3) = dq.row(i).transpose();
-      g->tail(S) = ds;
-    }
-    return val;
+  const test::TermFn term = [&](const RowMatX3d& qq, const Eigen::VectorXd& ss, RowMatX3d* pq, Eigen::VectorXd* ps) {
+    return energy.evaluate(qq, ss, Eigen::VectorXi::Zero(qq.rows()), pq, ps);
   };
-  Eigen::VectorXd x(4 * S);
-  for (int i = 0; i < S; ++i) x.segment(3 * i, 3) = q.row(i).transpose();
-  x.tail(S) = s;
-  EXPECT_TRUE(test::gradient_matches(f, x, 1e-7 * r, 1e-5, "pattern energy on a symmetry plane"));
+  EXPECT_TRUE(test::check_term(term, q, s, 1e-7 * r, "pattern energy on a symmetry plane", 1e-5));
 }
 
 TEST(PatternMirror, DetNeighbourhoodsReachAcrossThePlane) {
@@ -391,24 +354,11 @@ TEST(PatternMirror, DetNeighbourhoodsReachAcrossThePlane) {
   const Eigen::VectorXd scales = layout_scales(layout);
   const Eigen::VectorXi t = layout_types(layout);
   for (int i = 0; i < S; ++i) q(i, 0) += 0.05 * ds.unit * std::sin(3.0 * i);  // off the matched positions
-  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* g) {
-    RowMatX3d qq(S, 3);
-    for (int i = 0; i < S; ++i) qq.row(i) = x.segment(3 * i, 3).transpose();
-    RowMatX3d dq;
-    Eigen::VectorXd dsc;
-    PatternTerms terms;
-    energy.evaluate(qq, x.tail(S), t, g ? &dq : nullptr, g ? &dsc : nullptr, &terms);
-    if (g) {  // the whole energy: DET with its images, collision, plane and boundary terms
-      g->resize(4 * S);
-      for (int i = 0; i < S; ++i) g->segment(3 * i, 3) = dq.row(i).transpose();
-      g->tail(S) = dsc;
-    }
-    return terms.total();
+  // The whole energy: DET with its images, collision, plane and boundary terms.
+  const test::TermFn term = [&](const RowMatX3d& qq, const Eigen::VectorXd& ss, RowMatX3d* pq, Eigen::VectorXd* ps) {
+    return energy.evaluate(qq, ss, t, pq, ps);
   };
-  Eigen::VectorXd x(4 * S);
-  for (int i = 0; i < S; ++i) x.segment(3 * i, 3) = q.row(i).transpose();
-  x.tail(S) = scales;
-  EXPECT_TRUE(test::gradient_matches(f, x, 1e-7 * ds.unit, 1e-5, "DET energy with images"));
+  EXPECT_TRUE(test::check_term(term, q, scales, 1e-7 * ds.unit, "DET energy with images", 1e-5));
 
   // The vote: as in the whole, where an image's neighbourhood votes for the stencil as the stencil's
   // does for the image when the match is mirrored. The whole's image neighbourhoods are matched to

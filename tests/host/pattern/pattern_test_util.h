@@ -53,6 +53,39 @@ inline ::testing::AssertionResult gradient_matches(
   return ::testing::AssertionFailure() << table;
 }
 
+/// Packs positions q (#S×3) and scales r (#S) into one vector, and back.
+inline Eigen::VectorXd pack(const RowMatX3d& q, const Eigen::VectorXd& r) {
+  Eigen::VectorXd x(q.size() + r.size());
+  x.head(q.size()) = Eigen::Map<const Eigen::VectorXd>(q.data(), q.size());
+  x.tail(r.size()) = r;
+  return x;
+}
+inline void unpack(const Eigen::VectorXd& x, int n, RowMatX3d& q, Eigen::VectorXd& r) {
+  q = Eigen::Map<const RowMatX3d>(x.data(), n, 3);
+  r = x.tail(n);
+}
+
+/// A pattern term of positions and scales: the value, its gradients written or accumulated into
+/// the (zeroed) arrays when given.
+using TermFn = std::function<double(const RowMatX3d&, const Eigen::VectorXd&, RowMatX3d*, Eigen::VectorXd*)>;
+
+/// gradient_matches for a term of (q, r) at (q0, r0).
+inline ::testing::AssertionResult check_term(const TermFn& term, const RowMatX3d& q0, const Eigen::VectorXd& r0,
+                                             double h, const std::string& what, double rel_tol = 1e-6) {
+  const int n = int(q0.rows());
+  auto f = [&](const Eigen::VectorXd& x, Eigen::VectorXd* g) {
+    RowMatX3d q;
+    Eigen::VectorXd r;
+    unpack(x, n, q, r);
+    RowMatX3d gq = RowMatX3d::Zero(n, 3);
+    Eigen::VectorXd gr = Eigen::VectorXd::Zero(n);
+    const double v = term(q, r, g ? &gq : nullptr, g ? &gr : nullptr);
+    if (g) *g = pack(gq, gr);
+    return v;
+  };
+  return gradient_matches(f, pack(q0, r0), h, rel_tol, what);
+}
+
 /// A flat plate [0, w] × [0, h] at z = 0 with edge length e (the built-in shape, moved so
 /// that its lower-left corner is the origin whatever placement the generator uses).
 inline SurfaceMesh flat_plate(double w, double h, double e) {
