@@ -183,7 +183,15 @@ SubmodelSolution solve_submodel(const ZoomPatch& patch, const SurfaceMesh& sub, 
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(sub.num_faces());
   const ShellModel model(sub, material, lc, mechanics);
   EquilibriumSolver solver(model, settings);
-  solver.restore_equilibrium(x, ones);
+  try {
+    solver.restore_equilibrium(x, ones);
+  } catch (const SolveError&) {
+    // The level's displacements interpolated onto the submodel's finer rims are near its equilibrium
+    // but not at it, and under membrane compression the Hessian there need not be positive definite:
+    // Newton starts from them as a guess instead (its shifted steps take an indefinite start; the
+    // collar stays where the level put it, held_motion, which the check below confirms).
+    solver.start_from(x);
+  }
   const EquilibriumStats& stats = solver.solve(ones);
   if (!stats.stable) throw SolveError("the peak zoom's submodel is unstable");
   for (Eigen::Index v = 0; v < X.rows(); ++v)
