@@ -73,12 +73,16 @@ class StencilSurface {
   AxisTangentField m_axis;
 };
 
-/// A design's stencils.json for the scene (`surface` holds its pattern context), set on the
-/// shell: its fill ratios on the simulation mesh. Returns the stencils (the cut needs them).
-std::vector<StencilParams> set_design_stencils(solvers::StencilledShell& shell, const StencilSurface& surface,
-                                               const SceneMeshes& meshes, const std::string& file) {
+/// A design's stencils.json for the scene (`surface` holds its pattern context).
+StencilsFile read_design_stencils(const StencilSurface& surface, const SceneMeshes& meshes, const std::string& file) {
   const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
-  StencilsFile sf = read_stencils_json(file, surface.shapes(), &bounds);
+  return read_stencils_json(file, surface.shapes(), &bounds);
+}
+
+/// The design's stencils set on the shell: its fill ratios on the simulation mesh. Returns the
+/// stencils (the cut needs them).
+std::vector<StencilParams> set_design_stencils(solvers::StencilledShell& shell, StencilsFile sf,
+                                               const std::string& file) {
   shell.set_stencils(sf.stencils);
   if (sf.stencils.empty()) return {};
   // The angles are relative to the field's tangent: the scene must give the same field.
@@ -120,6 +124,13 @@ void run_simulate(const SimulateOptions& opts) {
   }
   fill_options.derivatives = false;
   const StencilSurface surface(scene, meshes, with_stencils);
+  StencilsFile design_file;
+  if (with_stencils) {
+    design_file = read_design_stencils(surface, meshes, opts.stencils);
+    // "lattice": "auto" is read from these stencils, before the stiffness is calibrated on it.
+    loaded.scene.mechanics =
+        solvers::measured_lattice(scene.mechanics, surface.bvh(), surface.field(), design_file.stencils, notes);
+  }
   double fill_seconds = sw.seconds();
 
   sw.restart();
@@ -138,7 +149,7 @@ void run_simulate(const SimulateOptions& opts) {
   std::vector<StencilParams> stencils;
   if (with_stencils) {
     sw.restart();
-    stencils = set_design_stencils(shell, surface, meshes, opts.stencils);
+    stencils = set_design_stencils(shell, std::move(design_file), opts.stencils);
     if (!stencils.empty())
       cut = cut_with_tool(surface.bvh(), surface.shapes(), surface.field(), stencils,
                           scene.fabrication.tool_radius);  // render_design

@@ -219,6 +219,10 @@ void run_verify(const VerifyOptions& opts) {
   sw.restart();
   const PatternContext ctx(loaded.scene, meshes);
   const StencilsFile sf = read_stencils_json(dir / "stencils.json", ctx.shapes());
+  // "lattice": "auto" is read from the stencils, as simulate reads it: the coarse model is the one
+  // `cutwork simulate --stencils` runs on this design.
+  loaded.scene.mechanics = solvers::measured_lattice(loaded.scene.mechanics, ctx.surface().bvh(),
+                                                     ctx.surface().field(), sf.stencils, loaded.notes);
   timings.add("stencils", sw.seconds());
 
   solvers::ConformingOptions co;

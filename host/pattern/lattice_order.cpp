@@ -10,6 +10,7 @@
 
 #include "host/core/error.h"
 #include "host/pattern/point_grid.h"
+#include "host/stencil/frame.h"
 
 namespace cutwork {
 
@@ -28,20 +29,26 @@ Vec3 any_perpendicular(const Vec3& n) {
   return (a - a.dot(n) * n).normalized();
 }
 
-}  // namespace
+/// One stencil's bond order, its angles measured in its tangent frame (t1, t2): t1 the axis
+/// projected (any tangent where the axis is normal to it, has_axis false).
+struct StencilOrder {
+  std::complex<double> p4, p6;
+  Vec3 normal, t1, t2;
+  bool has_axis = false;
+};
 
-LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis) {
+/// Every stencil with three or more neighbours within 1.3 times its nearest one's distance.
+std::vector<StencilOrder> stencil_orders(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis) {
   const int n = int(centres.rows());
   if (normals.rows() != n) throw InputError(fmt::format("lattice order: {} normals for {} centres", normals.rows(), n));
   if (!centres.allFinite() || !normals.allFinite() || !axis.allFinite())
     throw InputError("lattice order: the centres, normals and axis must be finite");
-  LatticeOrder out;
+  std::vector<StencilOrder> out;
   if (n < 4) return out;
   // The grid's cells about one spacing of a surface-filling arrangement (exact either way).
   const Vec3 lo = centres.colwise().minCoeff(), hi = centres.colwise().maxCoeff();
   const double spacing = std::max((hi - lo).norm() / std::sqrt(double(n)), 1e-12);
   const PointGrid grid(centres, spacing);
-  std::vector<double> square, hexagonal, misfit;
   std::vector<int> near;
   for (int i = 0; i < n; ++i) {
     const Vec3 c = centres.row(i).transpose();
@@ -54,33 +61,102 @@ LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& no
     }
     if (!std::isfinite(d1) || !(d1 > 0)) continue;
     grid.in_ball(c, 1.3 * d1, near);
-    const Vec3 nrm = normals.row(i).transpose().normalized();
-    Vec3 t1 = axis - axis.dot(nrm) * nrm;
-    const bool has_axis = t1.norm() > 1e-3 * axis.norm();
-    t1 = has_axis ? t1.normalized() : any_perpendicular(nrm);
-    const Vec3 t2 = nrm.cross(t1);
-    std::complex<double> p4 = 0, p6 = 0;
+    StencilOrder o;
+    o.normal = normals.row(i).transpose().normalized();
+    Vec3 t1 = axis - axis.dot(o.normal) * o.normal;
+    o.has_axis = t1.norm() > 1e-3 * axis.norm();
+    o.t1 = o.has_axis ? t1.normalized() : any_perpendicular(o.normal);
+    o.t2 = o.normal.cross(o.t1);
     int k = 0;
     for (int j : near) {
       if (j == i) continue;
       const Vec3 d = centres.row(j).transpose() - c;
-      const double theta = std::atan2(d.dot(t2), d.dot(t1));
-      p4 += std::polar(1.0, 4 * theta);
-      p6 += std::polar(1.0, 6 * theta);
+      const double theta = std::atan2(d.dot(o.t2), d.dot(o.t1));
+      o.p4 += std::polar(1.0, 4 * theta);
+      o.p6 += std::polar(1.0, 6 * theta);
       ++k;
     }
     if (k < 3) continue;
-    p4 /= double(k);
-    p6 /= double(k);
-    square.push_back(std::abs(p4));
-    hexagonal.push_back(std::abs(p6));
-    if (has_axis && std::abs(p4) >= 0.5) misfit.push_back(std::abs(std::arg(p4)) / 4 * 180 / std::numbers::pi);
+    o.p4 /= double(k);
+    o.p6 /= double(k);
+    out.push_back(o);
   }
+  return out;
+}
+
+}  // namespace
+
+LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis) {
+  std::vector<double> square, hexagonal, misfit;
+  for (const StencilOrder& o : stencil_orders(centres, normals, axis)) {
+    square.push_back(std::abs(o.p4));
+    hexagonal.push_back(std::abs(o.p6));
+    if (o.has_axis && std::abs(o.p4) >= 0.5) misfit.push_back(std::abs(std::arg(o.p4)) / 4 * 180 / std::numbers::pi);
+  }
+  LatticeOrder out;
   out.stencils = int(square.size());
   out.square = median(square);
   out.hexagonal = median(hexagonal);
   out.axis_misfit = median(misfit);
   return out;
+}
+
+MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& normals) {
+  // The reference axis: of x, y, z the one whose projections onto the tangent planes are largest.
+  Vec3 reference = Vec3::UnitX();
+  double best_projection = -1;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = Vec3::Unit(k);
+    double s = 0;
+    for (Eigen::Index i = 0; i < normals.rows(); ++i) {
+      const Vec3 nrm = normals.row(i).transpose().normalized();
+      s += 1 - std::pow(e.dot(nrm), 2);
+    }
+    if (s > best_projection + 1e-9) best_projection = s, reference = e;
+  }
+  const std::vector<StencilOrder> orders = stencil_orders(centres, normals, reference);
+  // Each ordered stencil's own axis (arg ψ₄ / 4 from the reference in its plane) and its quarter turn.
+  std::vector<const StencilOrder*> ordered;
+  for (const StencilOrder& o : orders)
+    if (o.has_axis && std::abs(o.p4) >= 0.5) ordered.push_back(&o);
+  MeasuredLattice out;
+  if (!ordered.empty()) {
+    double best_score = -INFINITY;
+    const std::size_t tries = std::min<std::size_t>(32, ordered.size());
+    for (std::size_t t = 0; t < tries; ++t) {
+      const StencilOrder& o = *ordered[t * ordered.size() / tries];
+      const double phi = std::arg(o.p4) / 4;
+      const Vec3 local = std::cos(phi) * o.t1 + std::sin(phi) * o.t2;
+      for (const Vec3& candidate : {local, Vec3(o.normal.cross(local))}) {
+        // Σ Re(ψ₄ e^{−4iβ}): each stencil's order measured from the candidate's projection (angle β
+        // from its t1), |ψ₄| cos 4Δ.
+        double score = 0;
+        for (const StencilOrder& s : orders) {
+          const Vec3 p = candidate - candidate.dot(s.normal) * s.normal;
+          if (p.norm() < 1e-3) continue;
+          const double beta = std::atan2(p.dot(s.t2), p.dot(s.t1));
+          score += (s.p4 * std::polar(1.0, -4 * beta)).real();
+        }
+        if (score > best_score + 1e-12) best_score = score, out.axis = candidate.normalized();
+      }
+    }
+  }
+  out.order = measure_lattice_order(centres, normals, out.axis);
+  const bool ordered_square = out.order.stencils > 0 && out.order.square >= 0.7 && out.order.hexagonal < 0.5;
+  out.turning = ordered_square && !(out.order.axis_misfit <= 10);
+  out.square = ordered_square && !out.turning;
+  return out;
+}
+
+void stencil_frames(const FaceBvh& bvh, const TangentField& field, std::span<const StencilParams> stencils,
+                    RowMatX3d& centres, RowMatX3d& normals) {
+  centres.resize(Eigen::Index(stencils.size()), 3);
+  normals.resize(Eigen::Index(stencils.size()), 3);
+  for (std::size_t i = 0; i < stencils.size(); ++i) {
+    const Frame f = compute_frame(bvh, field, stencils[i].position, nullptr);
+    centres.row(Eigen::Index(i)) = f.origin.transpose();
+    normals.row(Eigen::Index(i)) = f.normal.transpose();
+  }
 }
 
 }  // namespace cutwork

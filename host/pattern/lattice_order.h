@@ -2,11 +2,14 @@
 /// How a set of stencils is arranged: the bond-orientational order of their centres (Nelson and
 /// Halperin's ψ₆, and ψ₄ for the square lattice), the check of the scene's `mechanics.lattice`.
 ///
-/// The homogenised stiffness is calibrated on the lattice the scene states (hexagonal, the
-/// arrangement of a blue-noise packing, or square along `mechanics.lattice_axis`); the model does
-/// not measure it, because a lattice read from the stencils would change discontinuously as they
-/// move. This measures it once, for the report. Per stencil i with three or more neighbours —
-/// the centres within 1.3 times its nearest neighbour's distance (a square lattice's four at a, not
+/// The homogenised stiffness is calibrated on the lattice the stencils perforate the shell on
+/// (hexagonal, the arrangement of a blue-noise packing, or square along `mechanics.lattice_axis`).
+/// The scene states it, or says "auto" (the default): then it is read here, once, from stencils
+/// that are fixed — simulate's and verify's, a design's layout when its structural phase starts —
+/// never as stencils move (a lattice read from moving stencils would switch the model
+/// discontinuously under the optimiser). The reports measure the order of the final stencils too.
+///
+/// Per stencil i with three or more neighbours — the centres within 1.3 times its nearest neighbour's distance (a square lattice's four at a, not
 /// its diagonals at 1.41 a; a hexagonal lattice's six at a, not the next at 1.73 a) — with θ_ij the
 /// angle of the neighbour's offset, projected onto the stencil's tangent plane, from the axis
 /// (projected likewise),
@@ -15,8 +18,10 @@
 /// blue-noise packing gives both about 0.3–0.6. arg ψ₄ / 4 is the angle of the square lattice's
 /// axes from the stated axis (in (−45°, 45°]).
 #include <cmath>
+#include <span>
 
 #include "host/core/types.h"
+#include "host/stencil/frame.h"
 
 namespace cutwork {
 
@@ -34,5 +39,30 @@ struct LatticeOrder {
 /// (#S×3) there, with angles from `axis` (a direction, projected onto each tangent plane).
 /// Throws InputError for sizes that do not match or non-finite entries.
 LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis);
+
+/// The lattice the stencils lie on, read from them where the scene leaves it to them
+/// (`mechanics.lattice` "auto"): square along `axis`, or not (the hexagonal lattice's isotropic
+/// calibration, which is also that of a blue-noise packing).
+///
+/// The rule. Each stencil with |ψ₄| ≥ 0.5 gives its square lattice's axis in its tangent plane,
+/// arg ψ₄ / 4 from a reference axis (of x, y, z the one least normal to the stencils). Of those
+/// local axes (and their quarter turns), at most 64 spread over the stencils are tried as the one
+/// axis of the scene, and the one whose projection best fits every stencil's axis (the sum of
+/// |ψ₄| cos 4Δ) is kept; `order` is then measured from it. The stencils are on a square lattice
+/// when `order.square` ≥ 0.7 and `order.hexagonal` < 0.5 (the rule of the reports' note) and
+/// that one axis fits: its median misfit `order.axis_misfit` ≤ 10° (a square lattice turning over
+/// the surface has no one axis: `turning` is set, `square` is not).
+struct MeasuredLattice {
+  bool square = false;
+  bool turning = false;           ///< square order, but no one axis fits it within 10°
+  Vec3 axis = Vec3::UnitX();      ///< the best-fitting axis (unit; x where no stencil has |ψ₄| ≥ 0.5)
+  LatticeOrder order;             ///< measured from `axis`
+};
+MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& normals);
+
+/// The centres and unit normals (#S×3) of `stencils` at their frames on the surface (`bvh`,
+/// `field`): what the two measurements above read.
+void stencil_frames(const FaceBvh& bvh, const TangentField& field, std::span<const StencilParams> stencils,
+                    RowMatX3d& centres, RowMatX3d& normals);
 
 }  // namespace cutwork

@@ -115,6 +115,13 @@ enum class PerforationLattice {
   Square,     ///< a square grid along mechanics.lattice_axis: stiffer in stretch along its axes
 };
 
+/// Where MechanicsSettings::lattice comes from.
+enum class LatticeSource {
+  Scene,     ///< stated by the scene ("hexagonal" or "square")
+  Auto,      ///< "auto" (the default), not yet read: hexagonal until the stencils are known
+  Stencils,  ///< "auto", read from the stencils (host/pattern/lattice_order.h measure_lattice)
+};
+
 /// Which fill ratio a face's stiffness is evaluated at (scene key "mechanics.filter").
 enum class FillFilter {
   None,  ///< the face's own α (the paper's)
@@ -138,6 +145,11 @@ struct MechanicsSettings {
   /// part only).
   PerforationLattice lattice = PerforationLattice::Hexagonal;
   Vec3 lattice_axis = Vec3::UnitX();
+  /// Scene: as stated. Auto: the scene left it to the stencils, and they are not known yet (a
+  /// run without stencils, or before them): hexagonal. Stencils: `lattice` and `lattice_axis` were
+  /// read from fixed stencils (solvers/report/run_report.h measured_lattice: simulate's and verify's
+  /// stencils, a design's layout when its structural phase starts).
+  LatticeSource lattice_source = LatticeSource::Scene;
   /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
   FillStiffnessCurve stiffness_curve;
   /// The radius (m) at a stencil's corners W_peak reads its factors by corner at (corner_radius /

@@ -215,12 +215,15 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
   mechanics.filter = filter == "cell" ? FillFilter::Cell : FillFilter::None;
   const std::string loads = m.string("loads", "material", {"material", "area"});
   mechanics.loads = loads == "area" ? LoadSpread::Area : LoadSpread::Material;
-  const std::string lattice = m.string("lattice", "hexagonal", {"hexagonal", "square"});
+  const std::string lattice = m.string("lattice", "auto", {"auto", "hexagonal", "square"});
   mechanics.lattice = lattice == "square" ? PerforationLattice::Square : PerforationLattice::Hexagonal;
+  mechanics.lattice_source = lattice == "auto" ? LatticeSource::Auto : LatticeSource::Scene;
   // A hexagonal lattice's stiffness is isotropic in its plane, so an axis given with it would be
-  // read and do nothing: the scene says something the model cannot honour.
-  if (mechanics.lattice == PerforationLattice::Hexagonal && m.has("lattice_axis"))
-    m.fail("lattice_axis", "is only read with \"lattice\": \"square\" (a hexagonal lattice is isotropic in its plane)");
+  // read and do nothing: the scene says something the model cannot honour; "auto" measures it.
+  if (lattice != "square" && m.has("lattice_axis"))
+    m.fail("lattice_axis", fmt::format("is only read with \"lattice\": \"square\" ({})",
+                                       lattice == "auto" ? "with \"auto\" the stencils' own axis is measured"
+                                                         : "a hexagonal lattice is isotropic in its plane"));
   const Vec3 axis = m.vec3("lattice_axis", Vec3::UnitX());
   if (!(axis.norm() > 1e-12)) m.fail("lattice_axis", "must be a non-zero direction");
   mechanics.lattice_axis = axis.normalized();
@@ -520,8 +523,11 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                     {"stiffness", s.mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
                     {"filter", s.mechanics.filter == FillFilter::Cell ? "cell" : "none"},
                     {"loads", s.mechanics.loads == LoadSpread::Area ? "area" : "material"},
-                    {"lattice", s.mechanics.lattice == PerforationLattice::Square ? "square" : "hexagonal"}};
-  if (s.mechanics.lattice == PerforationLattice::Square) j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
+                    {"lattice", s.mechanics.lattice_source != LatticeSource::Scene                ? "auto"
+                                : s.mechanics.lattice == PerforationLattice::Square ? "square"
+                                                                                    : "hexagonal"}};
+  if (s.mechanics.lattice_source == LatticeSource::Scene && s.mechanics.lattice == PerforationLattice::Square)
+    j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
   j["supports"] = json::array();
   for (const auto& sp : s.supports) {
     json support = {{"type", sp.kind == SupportKind::Clamped    ? "clamped"

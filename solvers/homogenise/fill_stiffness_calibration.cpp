@@ -13,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include "host/core/error.h"
+#include "host/pattern/lattice_order.h"
 #include "host/pattern/pattern_context.h"
 
 namespace cutwork::solvers {
@@ -306,6 +307,25 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
   out.membrane_bulk.back() = out.membrane_shear.back() = out.bending_bulk.back() = out.bending_shear.back() = 1.0;
   if (square) out.membrane_anisotropy.back() = out.bending_anisotropy.back() = 0.0;
   return out;
+}
+
+MechanicsSettings measured_lattice(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
+                                   std::span<const StencilParams> stencils, std::vector<std::string>& notes) {
+  if (mechanics.lattice_source == LatticeSource::Scene || stencils.empty()) return mechanics;
+  RowMatX3d centres, normals;
+  stencil_frames(bvh, field, stencils, centres, normals);
+  const MeasuredLattice measured = measure_lattice(centres, normals);
+  MechanicsSettings m = mechanics;
+  m.lattice_source = LatticeSource::Stencils;
+  m.lattice = measured.square ? PerforationLattice::Square : PerforationLattice::Hexagonal;
+  m.lattice_axis = measured.square ? measured.axis : Vec3::UnitX();
+  if (measured.turning)
+    notes.push_back(fmt::format(
+        "the stencils lie on a square lattice (median |psi4| {:.2f}) whose axes turn over the surface (a median "
+        "{:.0f} degrees from the best single axis): the model has one axis, so it takes the isotropic (hexagonal) "
+        "calibration, which is up to a third off in stretch along or at 45 degrees to the axes",
+        measured.order.square, measured.order.axis_misfit));
+  return m;
 }
 
 MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,

@@ -88,6 +88,16 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
 /// equal without stencils, where α = 1 and the weights do not matter).
 MechanicsSettings scene_mechanics(const Scene& scene, std::span<const StencilParams> stencils = {});
 
+/// `mechanics` with its lattice read from `stencils` (at their frames on `bvh` with `field`) where
+/// the scene left it to them (lattice_source Auto; host/pattern/lattice_order.h measure_lattice):
+/// square along the measured axis, or hexagonal, lattice_source then Stencils. A stated lattice,
+/// and an Auto one without stencils, are returned as they are. Appends a note where the stencils
+/// form a square lattice whose axes turn over the surface (no one axis fits it: the isotropic
+/// calibration is kept). Call before the stiffness is calibrated (resolve_fill_stiffness), which
+/// the lattice decides.
+MechanicsSettings measured_lattice(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
+                                   std::span<const StencilParams> stencils, std::vector<std::string>& notes);
+
 /// `mechanics` with its stiffness_curve filled in when its rule is Homogenised (unchanged when
 /// Linear or already filled), the shapes weighted by their share of `stencils` (shape_weights).
 MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, const StencilLibrary& shapes,

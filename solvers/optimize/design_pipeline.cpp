@@ -1,5 +1,7 @@
 #include "solvers/optimize/design_pipeline.h"
 
+#include <memory>
+
 #include "host/core/error.h"
 #include "host/pattern/overlaps.h"
 #include "solvers/homogenise/fill_stiffness_calibration.h"
@@ -90,14 +92,18 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
                         PatternContext& ctx, const DesignOptions& options) {
   DesignResult r;
   Stopwatch sw;
-  StencilledShell shell(meshes.sim, ctx.surface().bvh(), scene.material,
-                        scene.mechanics, load_case, ctx.shapes(),
-                        ctx.surface().field(), options.fill);
-  shell.set_cell_filter(scene_cell_filter(scene, ctx, meshes.sim));
+  r.mechanics = scene.mechanics;
+  auto build_shell = [&] {
+    auto shell = std::make_unique<StencilledShell>(meshes.sim, ctx.surface().bvh(), scene.material, r.mechanics,
+                                                   load_case, ctx.shapes(), ctx.surface().field(), options.fill);
+    shell->set_cell_filter(scene_cell_filter(scene, ctx, meshes.sim));
+    return shell;
+  };
+  std::unique_ptr<StencilledShell> shell_ptr = build_shell();
   r.timings.add("model", sw.seconds());
 
   sw.restart();
-  r.uncut = evaluate_design(shell, ctx, {});
+  r.uncut = evaluate_design(*shell_ptr, ctx, {});
   if (!r.uncut.stats.stable)
     throw SolveError("the uncut shell has no stable equilibrium under the scene's loads (it buckles): "
                      "lower the loads or stiffen the shell");
@@ -106,6 +112,20 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   sw.restart();
   r.pattern = pattern_phase(ctx, options);
   r.timings.add("pattern", sw.seconds());
+
+  // "lattice": "auto" is read from the pattern's layout, which the structural phase starts from, and
+  // kept: a lattice read as the stencils move would switch the model under the optimiser. (The
+  // uncut shell is the same on either lattice: every face is whole.)
+  r.mechanics = measured_lattice(scene.mechanics, ctx.surface().bvh(), ctx.surface().field(),
+                                 layout_params(r.pattern.layout), r.notes);
+  StencilledShell::StageTimes before;  // of a shell the lattice's reading replaced
+  if (r.mechanics.lattice != scene.mechanics.lattice) {
+    sw.restart();
+    before = shell_ptr->times();
+    shell_ptr = build_shell();
+    r.timings.add("model", sw.seconds());
+  }
+  StencilledShell& shell = *shell_ptr;
 
   sw.restart();
   r.pattern_design = evaluate_design(shell, ctx, r.pattern.layout);
@@ -126,6 +146,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.final_design = r.structure ? evaluate_design(shell, ctx, r.layout) : r.pattern_design;
   r.timings.add("final_equilibrium", sw.seconds());
   r.stage_times = shell.times();
+  r.stage_times.add(before);
   return r;
 }
 

@@ -87,6 +87,10 @@ struct DesignResult {
   PatternPhaseResult pattern;
   std::optional<StructurePhaseResult> structure;  ///< when the structural phase ran
   StencilLayout layout;                           ///< the final stencils (on the base mesh)
+  /// The scene's mechanics as the design modelled them: with "lattice": "auto", the lattice read
+  /// from the pattern's layout, which the structural phase starts from (measured_lattice).
+  MechanicsSettings mechanics;
+  std::vector<std::string> notes;  ///< what the run found worth telling (the lattice's reading)
   Timings timings;                                ///< per stage (s)
   StencilledShell::StageTimes stage_times;        ///< fill / equilibrium / adjoint totals
 };

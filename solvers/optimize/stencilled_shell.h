@@ -110,6 +110,10 @@ class StencilledShell {
   struct StageTimes {
     double fill = 0, equilibrium = 0, adjoint = 0, pullback = 0;
     int fills = 0, equilibria = 0, adjoints = 0, newton_iterations = 0;
+    void add(const StageTimes& o) {
+      fill += o.fill, equilibrium += o.equilibrium, adjoint += o.adjoint, pullback += o.pullback;
+      fills += o.fills, equilibria += o.equilibria, adjoints += o.adjoints, newton_iterations += o.newton_iterations;
+    }
   };
   const StageTimes& times() const { return m_times; }
 

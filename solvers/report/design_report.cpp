@@ -25,6 +25,18 @@ namespace cutwork::solvers {
 
 namespace {
 
+/// The scene as the design modelled it: its "auto" lattice read from the pattern's layout
+/// (DesignResult::mechanics).
+Scene as_designed(const Scene& scene, const DesignResult& r) {
+  Scene s = scene;
+  if (r.mechanics.lattice_source == LatticeSource::Stencils) {
+    s.mechanics.lattice = r.mechanics.lattice;
+    s.mechanics.lattice_axis = r.mechanics.lattice_axis;
+    s.mechanics.lattice_source = r.mechanics.lattice_source;
+  }
+  return s;
+}
+
 using nlohmann::json;
 
 json phase_json(const std::string& name, int iterations, int evaluations, int rounds, double seconds,
@@ -172,8 +184,10 @@ json design_report(const Scene& scene, const SceneMeshes& meshes, const PatternC
   return report;
 }
 
-DesignOutputs finish_design(const Scene& scene, const SceneMeshes& meshes, const PatternContext& ctx,
+DesignOutputs finish_design(const Scene& given_scene, const SceneMeshes& meshes, const PatternContext& ctx,
                             const DesignResult& result, DesignRunInfo info, const Stopwatch& since_start) {
+  const Scene scene = as_designed(given_scene, result);
+  info.notes.insert(info.notes.end(), result.notes.begin(), result.notes.end());
   for (const auto& [name, seconds] : result.timings.entries()) info.timings.add(name, seconds);
   if (result.structure)
     for (const std::string& n : result.structure->notes) info.notes.push_back(n);
@@ -310,7 +324,7 @@ DesignFileInputs design_file_inputs(const Scene& scene, const SceneMeshes& meshe
   in.sim_fields.face = design_face_fields(r);
   const std::vector<StencilParams> params = layout_params(r.layout);
   in.sim_fields.vertex = {
-      {"displacement", equilibrium_displacement(scene, meshes, load_case, r.final_design.alpha, params)}};
+      {"displacement", equilibrium_displacement(as_designed(scene, r), meshes, load_case, r.final_design.alpha, params)}};
   if (r.structure && std::isfinite(r.structure->beta)) in.beta = r.structure->beta;
   in.outlines = stencil_outlines(ctx.surface().bvh(), ctx.shapes(), ctx.surface().field(), params);
   in.outline_types.resize(Eigen::Index(params.size()));

@@ -13,40 +13,57 @@
 
 namespace cutwork::solvers {
 
+namespace {
+
+const char* lattice_name(PerforationLattice lattice) {
+  return lattice == PerforationLattice::Square ? "square" : "hexagonal";
+}
+
+}  // namespace
+
 nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
                                   std::span<const StencilParams> stencils, std::vector<std::string>& notes) {
-  RowMatX3d centres(Eigen::Index(stencils.size()), 3), normals(Eigen::Index(stencils.size()), 3);
-  for (std::size_t i = 0; i < stencils.size(); ++i) {
-    const Frame f = compute_frame(bvh, field, stencils[i].position, nullptr);
-    centres.row(Eigen::Index(i)) = f.origin.transpose();
-    normals.row(Eigen::Index(i)) = f.normal.transpose();
-  }
+  RowMatX3d centres, normals;
+  stencil_frames(bvh, field, stencils, centres, normals);
   const bool square = mechanics.lattice == PerforationLattice::Square;
+  // What the model used: stated by the scene, or read from the stencils ("auto"; for a design,
+  // from its layout when the structural phase started, which these final stencils may have left).
+  const std::string used = mechanics.lattice_source == LatticeSource::Scene ? "mechanics.lattice is"
+                           : mechanics.lattice_source == LatticeSource::Stencils
+                               ? "mechanics.lattice (auto) was read from the stencils as"
+                               : "mechanics.lattice (auto, no stencils to read) is";
   const LatticeOrder o = measure_lattice_order(centres, normals, mechanics.lattice_axis);
   if (o.stencils > 0) {
-    if (!square && o.square >= 0.7 && o.hexagonal < 0.5)
+    if (!square && o.square >= 0.7 && o.hexagonal < 0.5 && mechanics.lattice_source != LatticeSource::Stencils)
       notes.push_back(fmt::format(
-          "the stencils lie on a square lattice (median |psi4| {:.2f}, |psi6| {:.2f}) but mechanics.lattice is "
+          "the stencils lie on a square lattice (median |psi4| {:.2f}, |psi6| {:.2f}) but {} "
           "hexagonal: the homogenised stiffness is then the hexagonal lattice's (bent along the square's axes up to 8% "
-          "too stiff, stretched along them up to 29% too soft); say \"lattice\": \"square\" with its lattice_axis",
-          o.square, o.hexagonal));
+          "too stiff, stretched along them up to 29% too soft); say \"lattice\": \"square\" with its lattice_axis, "
+          "or \"auto\"",
+          o.square, o.hexagonal, used));
     if (square && o.square < 0.5)
-      notes.push_back(fmt::format("mechanics.lattice is square but the stencils do not form one (median |psi4| {:.2f}, "
+      notes.push_back(fmt::format("{} square but the stencils do not form one (median |psi4| {:.2f}, "
                                   "|psi6| {:.2f}): the square lattice's anisotropy is then assumed where it is not",
-                                  o.square, o.hexagonal));
+                                  used, o.square, o.hexagonal));
     if (square && o.axis_misfit > 10)
-      notes.push_back(fmt::format("the stencils' square lattice runs a median {:.0f} degrees from mechanics.lattice_axis "
-                                  "(projected): its anisotropy is applied in the wrong direction there",
+      notes.push_back(fmt::format("the stencils' square lattice runs a median {:.0f} degrees from the lattice axis "
+                                  "the model used (projected): its anisotropy is applied in the wrong direction there",
                                   o.axis_misfit));
   }
-  return {{"stated", square ? "square" : "hexagonal"},
-          {"stencils_measured", o.stencils},
-          {"square_order", number_or_null(o.square)},
-          {"hexagonal_order", number_or_null(o.hexagonal)},
-          {"axis_misfit_degrees", number_or_null(o.axis_misfit)},
-          {"rule", "per stencil with three or more neighbours within 1.3 times its nearest one's distance: |mean "
-                   "exp(4 i theta)| (1 on a square lattice) and |mean exp(6 i theta)| (1 on a hexagonal one), theta "
-                   "the neighbours' angles in the tangent plane from the projected lattice_axis; medians"}};
+  nlohmann::json out = {
+      {"stated", mechanics.lattice_source == LatticeSource::Scene ? lattice_name(mechanics.lattice) : "auto"},
+      {"used", lattice_name(mechanics.lattice)},
+      {"stencils_measured", o.stencils},
+      {"square_order", number_or_null(o.square)},
+      {"hexagonal_order", number_or_null(o.hexagonal)},
+      {"axis_misfit_degrees", number_or_null(o.axis_misfit)},
+      {"rule", "per stencil with three or more neighbours within 1.3 times its nearest one's distance: |mean "
+               "exp(4 i theta)| (1 on a square lattice) and |mean exp(6 i theta)| (1 on a hexagonal one), theta "
+               "the neighbours' angles in the tangent plane from the projected lattice_axis; medians. \"auto\" reads "
+               "square where those medians are >= 0.7 and < 0.5 and one axis fits the stencils' own within 10 "
+               "degrees (median)"}};
+  if (square) out["used_axis"] = {mechanics.lattice_axis.x(), mechanics.lattice_axis.y(), mechanics.lattice_axis.z()};
+  return out;
 }
 
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -76,7 +93,10 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                     {"stiffness", mechanics.stiffness == FillStiffness::Homogenised ? "homogenised" : "linear"},
                     {"filter", mechanics.filter == FillFilter::Cell ? "cell" : "none"},
                     {"loads", mechanics.loads == LoadSpread::Area ? "area" : "material"},
-                    {"lattice", mechanics.lattice == PerforationLattice::Square ? "square" : "hexagonal"}};
+                    {"lattice", lattice_name(mechanics.lattice)},
+                    {"lattice_source", mechanics.lattice_source == LatticeSource::Scene      ? "scene"
+                                       : mechanics.lattice_source == LatticeSource::Stencils ? "stencils"
+                                                                                             : "auto without stencils"}};
   if (mechanics.lattice == PerforationLattice::Square)
     r["mechanics"]["lattice_axis"] = {mechanics.lattice_axis.x(), mechanics.lattice_axis.y(), mechanics.lattice_axis.z()};
   if (!mechanics.stiffness_curve.empty()) {

@@ -2,12 +2,17 @@
 // loads ending as one line on stderr, exit code 2 and nothing written.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <numbers>
+
+#include <Eigen/Core>
 
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
+#include "host/core/types.h"
 #include "host/scene/load_case.h"
 #include "tests/support/test_support.h"
 
@@ -209,6 +214,89 @@ TEST(CliSimulate, StencilsOfADesignReproduceItsEquilibrium) {
   EXPECT_EQ(count_lines(other.err), 1) << other.err;
   EXPECT_FALSE(fs::exists(dir / "bad" / "report.json"));
   fs::remove_all(dir);
+}
+
+// "lattice": "auto" (the default): simulate reads the lattice from the stencils it is given. A
+// square grid of circles turned 30° on the plate (10 mm spacing, 3.5 mm radius): read as square
+// along its own axis, so the compliance is the one the scene stating that lattice and axis gets
+// (the same calibration and anisotropy), and not the hexagonal calibration's.
+TEST(CliSimulate, AnAutoLatticeIsReadFromTheStencils) {
+  const fs::path dir = test::temp_dir("simulate_auto_lattice");
+  fs::create_directories(dir);
+  const double angle = 30 * std::numbers::pi / 180;
+  const Eigen::Vector2d a1(std::cos(angle), std::sin(angle)), a2(-a1.y(), a1.x());
+  nlohmann::json stencils = nlohmann::json::array();
+  for (int i = -15; i <= 15; ++i)
+    for (int j = -15; j <= 15; ++j) {
+      const Eigen::Vector2d p = 0.01 * (i * a1 + j * a2);
+      if (std::abs(p.x()) > 0.08 || std::abs(p.y()) > 0.043) continue;
+      stencils.push_back({{"type", "circle"}, {"position", {p.x(), p.y(), 0.0}}, {"scale", 0.0035}, {"angle", 0.0}});
+    }
+  const fs::path file = dir / "stencils.json";
+  std::ofstream(file) << nlohmann::json{{"stencils", stencils}}.dump();
+  std::string err;  // of the last run: its notes
+  auto simulate = [&](const std::string& name, const nlohmann::json& mechanics) {
+    nlohmann::json doc = plate_scene();
+    for (const auto& [key, value] : mechanics.items()) doc["mechanics"][key] = value;
+    const fs::path scene = dir / (name + ".json");
+    std::ofstream(scene) << doc.dump(2);
+    const auto r = run_cutwork("simulate " + scene.string() + " --device cpu --no-render --no-discretisation-estimate "
+                               "--stencils " + file.string() + " --out " + (dir / name).string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    err = r.err;
+    return read_json(dir / name / "report.json");
+  };
+  const auto automatic = simulate("auto", nlohmann::json::object());
+  const auto stated = simulate("square", {{"lattice", "square"}, {"lattice_axis", {a1.x(), a1.y(), 0.0}}});
+  const auto hexagonal = simulate("hexagonal", {{"lattice", "hexagonal"}});
+  EXPECT_EQ(automatic["mechanics"]["lattice"], "square");
+  EXPECT_EQ(automatic["mechanics"]["lattice_source"], "stencils");
+  EXPECT_EQ(stated["mechanics"]["lattice_source"], "scene");
+  const Vec3 axis(automatic["mechanics"]["lattice_axis"][0], automatic["mechanics"]["lattice_axis"][1],
+                  automatic["mechanics"]["lattice_axis"][2]);
+  EXPECT_GT(std::cos(4 * std::acos(std::min(1.0, std::abs(axis.dot(Vec3(a1.x(), a1.y(), 0)))))), 1 - 1e-9);
+  EXPECT_EQ(automatic["lattice_order"]["stated"], "auto");
+  EXPECT_EQ(automatic["lattice_order"]["used"], "square");
+  const double c_auto = automatic["equilibrium"]["compliance"], c_square = stated["equilibrium"]["compliance"];
+  const double c_hex = hexagonal["equilibrium"]["compliance"];
+  std::printf("square grid at 30°: compliance auto %.6e, stated square %.6e, stated hexagonal %.6e\n", c_auto,
+              c_square, c_hex);
+  EXPECT_NEAR(c_auto, c_square, 1e-8 * c_square);
+  EXPECT_GT(std::abs(c_hex / c_square - 1), 0.005);
+  // The hexagonal statement is kept, and the report says the stencils disagree with it.
+  EXPECT_NE(err.find("the stencils lie on a square lattice"), std::string::npos) << err;
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+// A design reads "auto" from its pattern's layout, the one its structural phase starts from: the
+// built-in table's circles exemplar is a square grid laid along y on its top (the table states
+// `"lattice": "square", "lattice_axis": [0, 1, 0]`); without that statement the design reads the
+// same lattice, with an axis a quarter turn of y or y itself on the top.
+TEST(CliSimulate, ADesignReadsAnAutoLatticeFromItsPatternLayout) {
+  const fs::path dir = test::temp_dir("design_auto_lattice");
+  fs::create_directories(dir);
+  const auto shown = run_cutwork("show table");
+  ASSERT_EQ(shown.exit_code, 0) << shown.err;
+  nlohmann::json doc = nlohmann::json::parse(shown.out);
+  ASSERT_EQ(doc["mechanics"]["lattice"], "square");
+  doc["mechanics"].erase("lattice");
+  doc["mechanics"].erase("lattice_axis");
+  const fs::path scene = dir / "table_auto.json";
+  std::ofstream(scene) << doc.dump(2);
+  const auto r = run_cutwork("design " + scene.string() + " --phases pattern --device cpu --no-render --out " +
+                             (dir / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_json(dir / "out" / "report.json");
+  EXPECT_EQ(report["mechanics"]["lattice"], "square");
+  EXPECT_EQ(report["mechanics"]["lattice_source"], "stencils");
+  const auto& a = report["mechanics"]["lattice_axis"];
+  const Vec3 axis(a[0], a[1], a[2]);
+  // On the top (normal z) the axis's projection is along x or y.
+  const Vec3 on_top(axis.x(), axis.y(), 0);
+  ASSERT_GT(on_top.norm(), 0.5);
+  EXPECT_GT(std::cos(4 * std::atan2(on_top.x(), on_top.y())), std::cos(4 * 5 * std::numbers::pi / 180)) << a.dump();
+  EXPECT_EQ(report["pattern"]["lattice_order"]["used"], "square");
+  if (!HasFailure()) fs::remove_all(dir);
 }
 
 TEST(CliSimulate, FactorsByShapeAndCornerAreReportedAndDesignAndSimulateAgree) {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include <Eigen/Geometry>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "host/core/error.h"
@@ -71,6 +72,87 @@ TEST(LatticeOrder, ATiltedPlaneIsMeasuredInItsTangentPlane) {
   o = measure_lattice_order(c, nrm, Vec3(std::sin(50 * kDegree), 0, std::cos(50 * kDegree)));
   EXPECT_NEAR(o.square, 1.0, 1e-9);
   EXPECT_TRUE(std::isnan(o.axis_misfit));
+}
+
+/// cos 4θ between two directions: 1 when they are the same square lattice axes (90° apart).
+double quarter_turn_fit(const Vec3& a, const Vec3& b) {
+  const double theta = std::atan2(a.cross(b).norm(), a.dot(b));
+  return std::cos(4 * theta);
+}
+
+/// Concatenates (centres, normals) blocks.
+void append(RowMatX3d& c, RowMatX3d& n, const RowMatX3d& more_c, const RowMatX3d& more_n, const Vec3& shift) {
+  const Eigen::Index k = c.rows();
+  c.conservativeResize(k + more_c.rows(), 3);
+  n.conservativeResize(k + more_n.rows(), 3);
+  c.bottomRows(more_c.rows()) = more_c.rowwise() + shift.transpose();
+  n.bottomRows(more_n.rows()) = more_n;
+}
+
+// "lattice": "auto" (measure_lattice): a square grid at any angle, in a tilted plane and jittered,
+// is read as square along its own axis; the hexagonal lattice and a random arrangement are not.
+TEST(LatticeOrder, AutoReadsASquareGridAndItsAxis) {
+  RowMatX3d c, nrm;
+  for (const double tilt : {0.0, 50.0})
+    for (const double degrees : {0.0, 20.0, 65.0}) {
+      SCOPED_TRACE(fmt::format("{}° in a plane tilted {}°", degrees, tilt));
+      lattice(14, Eigen::Vector2d(0, 1), degrees * kDegree, tilt * kDegree, c, nrm);
+      const MeasuredLattice m = measure_lattice(c, nrm);
+      EXPECT_TRUE(m.square);
+      EXPECT_FALSE(m.turning);
+      const Eigen::Matrix3d R =
+          (Eigen::AngleAxisd(tilt * kDegree, Vec3::UnitY()) * Eigen::AngleAxisd(degrees * kDegree, Vec3::UnitZ())).matrix();
+      EXPECT_GT(quarter_turn_fit(m.axis, R * Vec3::UnitX()), 1 - 1e-9);
+      EXPECT_NEAR(m.axis.norm(), 1.0, 1e-12);
+      EXPECT_NEAR(m.order.axis_misfit, 0.0, 1e-6);
+    }
+  // Jittered by 5% of the spacing: still square, the axis within a degree.
+  lattice(14, Eigen::Vector2d(0, 1), 20 * kDegree, 0, c, nrm, 0.05);
+  const MeasuredLattice jittered = measure_lattice(c, nrm);
+  EXPECT_TRUE(jittered.square);
+  EXPECT_GT(quarter_turn_fit(jittered.axis, Vec3(std::cos(20 * kDegree), std::sin(20 * kDegree), 0)),
+            std::cos(4 * kDegree));
+
+  lattice(14, Eigen::Vector2d(0.5, std::sqrt(3.0) / 2), 10 * kDegree, 0, c, nrm);
+  EXPECT_FALSE(measure_lattice(c, nrm).square);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 14);
+  for (Eigen::Index i = 0; i < c.rows(); ++i) c.row(i) = Vec3(u(rng), u(rng), 0).transpose();
+  nrm.rowwise() = Vec3::UnitZ().transpose();
+  const MeasuredLattice random = measure_lattice(c, nrm);
+  EXPECT_FALSE(random.square);
+  EXPECT_FALSE(random.turning);
+}
+
+// On a cylinder (axis y), a grid along its length and round it: one axis, y, fits every stencil.
+TEST(LatticeOrder, AutoFindsTheOneAxisOfAGridOnACylinder) {
+  const double radius = 5;
+  const int around = 24, along = 10;
+  RowMatX3d c(around * along, 3), nrm(around * along, 3);
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < along; ++j) {
+      const double phi = 0.6 * i / radius;  // arc-length spacing 0.6 round, 0.6 along
+      c.row(i * along + j) = Vec3(radius * std::sin(phi), 0.6 * j, radius * std::cos(phi)).transpose();
+      nrm.row(i * along + j) = Vec3(std::sin(phi), 0, std::cos(phi)).transpose();
+    }
+  const MeasuredLattice m = measure_lattice(c, nrm);
+  EXPECT_TRUE(m.square);
+  EXPECT_GT(std::abs(m.axis.dot(Vec3::UnitY())), 1 - 1e-9);
+}
+
+// Three square patches at 0°, 30° and 60°: square order everywhere, but no one axis fits
+// (the median misfit is 30°): turning, and not read as square.
+TEST(LatticeOrder, AutoDoesNotGiveATurningGridOneAxis) {
+  RowMatX3d c(0, 3), nrm(0, 3), pc, pn;
+  for (int k = 0; k < 3; ++k) {
+    lattice(10, Eigen::Vector2d(0, 1), 30.0 * k * kDegree, 0, pc, pn);
+    append(c, nrm, pc, pn, Vec3(30.0 * k, 0, 0));
+  }
+  const MeasuredLattice m = measure_lattice(c, nrm);
+  EXPECT_GT(m.order.square, 0.7);
+  EXPECT_TRUE(m.turning);
+  EXPECT_FALSE(m.square);
+  EXPECT_NEAR(m.order.axis_misfit, 30.0, 1e-6);
 }
 
 TEST(LatticeOrder, RejectsMismatchedInput) {

@@ -105,12 +105,22 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   d.erase("mechanics");  // the default rule is the homogenised one
   EXPECT_EQ(parse_scene(d, "test").structure.measure, DensityMeasure::Peak);
   EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["structure"]["measure"], "peak");
-  // A lattice axis is read only where the lattice has axes (the square one), and is a direction.
+  // The lattice is "auto" unless stated (read from the stencils where they are fixed; hexagonal
+  // until then), and a scene written back keeps saying so.
   d = minimal_scene();
+  EXPECT_EQ(parse_scene(d, "test").mechanics.lattice_source, LatticeSource::Auto);
+  EXPECT_EQ(parse_scene(d, "test").mechanics.lattice, PerforationLattice::Hexagonal);
+  EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["mechanics"]["lattice"], "auto");
+  d["mechanics"] = {{"lattice", "hexagonal"}};
+  EXPECT_EQ(parse_scene(d, "test").mechanics.lattice_source, LatticeSource::Scene);
+  EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["mechanics"]["lattice"], "hexagonal");
+  d["mechanics"] = {{"lattice", "triangular"}};
+  expect_rejected(d, {"/mechanics/lattice", "auto", "square"});
+  // A lattice axis is read only where the lattice has axes (the square one), and is a direction.
   d["mechanics"] = {{"lattice_axis", {0, 1, 0}}};
-  expect_rejected(d, {"/mechanics/lattice_axis", "square", "isotropic"});
+  expect_rejected(d, {"/mechanics/lattice_axis", "square", "auto"});
   d["mechanics"] = {{"lattice", "hexagonal"}, {"lattice_axis", {0, 1, 0}}};
-  expect_rejected(d, {"/mechanics/lattice_axis", "square"});
+  expect_rejected(d, {"/mechanics/lattice_axis", "square", "isotropic"});
   d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", {0, 0, 0}}};
   expect_rejected(d, {"/mechanics/lattice_axis", "non-zero"});
   d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", {0, 2, 0}}};
