@@ -217,7 +217,7 @@ void run_design_command(const DesignCommandOptions& opts) {
     // The factor's size from CHOLMOD's symbolic analysis, before the design factorises anything.
     // Its model calibrates a homogenised stiffness (the cell problems, kept for the run): timed.
     sw.restart();
-    const solvers::ShellModel model(meshes.sim, scene.material, load_case, solvers::scene_mechanics(scene));
+    const solvers::ShellModel model(meshes.sim, scene.material, load_case, solvers::uncut_scene_mechanics(scene));
     timings.add("calibration", sw.seconds());
     check_factor_work(scene, meshes, solvers::EquilibriumSolver(model).linear_solver().factor_nonzeros());
   }

@@ -100,7 +100,7 @@ void add_check_command(CLI::App& app) {
     // printed: supports that hold every part and loads that are finite and not zero (the shell
     // model), the work the pattern asks for, the exemplar against the stencils, the sizing file
     // and the strokes (the pattern context), and a design's stencils.
-    const solvers::ShellModel model(meshes.sim, scene.material, lc, solvers::scene_mechanics(scene));
+    const solvers::ShellModel model(meshes.sim, scene.material, lc, solvers::uncut_scene_mechanics(scene));
     solvers::EquilibriumSolver analysis(model);  // CHOLMOD's symbolic analysis: the factor's size
     check_factor_work(scene, meshes, analysis.linear_solver().factor_nonzeros());
     check_stencil_work(scene, meshes);

@@ -125,12 +125,11 @@ void run_simulate(const SimulateOptions& opts) {
   fill_options.derivatives = false;
   const StencilSurface surface(scene, meshes, with_stencils);
   StencilsFile design_file;
-  if (with_stencils) {
-    design_file = read_design_stencils(surface, meshes, opts.stencils);
-    // "lattice": "auto" is read from these stencils, before the stiffness is calibrated on it.
-    loaded.scene.mechanics =
-        solvers::measured_lattice(scene.mechanics, surface.bvh(), surface.field(), design_file.stencils, notes);
-  }
+  if (with_stencils) design_file = read_design_stencils(surface, meshes, opts.stencils);
+  // "lattice": "auto" is read from these stencils, before the stiffness is calibrated on it (and a
+  // lattice that follows the field gets the field's axis).
+  loaded.scene.mechanics =
+      solvers::measured_lattice(scene.mechanics, surface.bvh(), surface.field(), design_file.stencils, notes);
   double fill_seconds = sw.seconds();
 
   sw.restart();
@@ -226,6 +225,8 @@ void run_simulate(const SimulateOptions& opts) {
     report["timings"]["ligaments"] = sw.seconds();
   }
   if (!lattice_order.is_null()) report["lattice_order"] = lattice_order;
+  // What the run found worth telling, as design and verify keep it (also printed on stderr).
+  report["notes"] = notes;
 
   // Per-face fields on the simulation mesh: fill ratio, energy density, mean displacement.
   const RowMatX3d u = shell.solver().displacements();

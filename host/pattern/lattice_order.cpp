@@ -37,12 +37,15 @@ struct StencilOrder {
   bool has_axis = false;
 };
 
-/// Every stencil with three or more neighbours within 1.3 times its nearest one's distance.
-std::vector<StencilOrder> stencil_orders(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis) {
+/// Every stencil with three or more neighbours within 1.3 times its nearest one's distance, its
+/// angles from `axis`, or from its own row of `axes` (#S×3) where given.
+std::vector<StencilOrder> stencil_orders(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis,
+                                         const RowMatX3d* axes = nullptr) {
   const int n = int(centres.rows());
   if (normals.rows() != n) throw InputError(fmt::format("lattice order: {} normals for {} centres", normals.rows(), n));
-  if (!centres.allFinite() || !normals.allFinite() || !axis.allFinite())
+  if (!centres.allFinite() || !normals.allFinite() || !axis.allFinite() || (axes && !axes->allFinite()))
     throw InputError("lattice order: the centres, normals and axis must be finite");
+  if (axes && axes->rows() != n) throw InputError(fmt::format("lattice order: {} axes for {} centres", axes->rows(), n));
   std::vector<StencilOrder> out;
   if (n < 4) return out;
   // The grid's cells about one spacing of a surface-filling arrangement (exact either way).
@@ -63,8 +66,9 @@ std::vector<StencilOrder> stencil_orders(const RowMatX3d& centres, const RowMatX
     grid.in_ball(c, 1.3 * d1, near);
     StencilOrder o;
     o.normal = normals.row(i).transpose().normalized();
-    Vec3 t1 = axis - axis.dot(o.normal) * o.normal;
-    o.has_axis = t1.norm() > 1e-3 * axis.norm();
+    const Vec3 a = axes ? Vec3(axes->row(i).transpose()) : axis;
+    Vec3 t1 = a - a.dot(o.normal) * o.normal;
+    o.has_axis = t1.norm() > 1e-3 * a.norm();
     o.t1 = o.has_axis ? t1.normalized() : any_perpendicular(o.normal);
     o.t2 = o.normal.cross(o.t1);
     int k = 0;
@@ -86,9 +90,10 @@ std::vector<StencilOrder> stencil_orders(const RowMatX3d& centres, const RowMatX
 
 }  // namespace
 
-LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis) {
+LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis,
+                                   const RowMatX3d* axes) {
   std::vector<double> square, hexagonal, misfit;
-  for (const StencilOrder& o : stencil_orders(centres, normals, axis)) {
+  for (const StencilOrder& o : stencil_orders(centres, normals, axis, axes)) {
     square.push_back(std::abs(o.p4));
     hexagonal.push_back(std::abs(o.p6));
     if (o.has_axis && std::abs(o.p4) >= 0.5) misfit.push_back(std::abs(std::arg(o.p4)) / 4 * 180 / std::numbers::pi);
@@ -101,7 +106,7 @@ LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& no
   return out;
 }
 
-MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& normals) {
+MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& normals, const RowMatX3d* tangents) {
   // The reference axis: of x, y, z the one whose projections onto the tangent planes are largest.
   Vec3 reference = Vec3::UnitX();
   double best_projection = -1;
@@ -145,18 +150,53 @@ MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& norma
   const bool ordered_square = out.order.stencils > 0 && out.order.square >= 0.7 && out.order.hexagonal < 0.5;
   out.turning = ordered_square && !(out.order.axis_misfit <= 10);
   out.square = ordered_square && !out.turning;
+  if (out.turning && tangents) {
+    // Does the lattice follow the field? Each stencil's axes from its own field direction t: a
+    // constant angle δ₀ (arg Σ ψ₄ / 4, the |ψ₄|-weighted circular mean) within a median 10°.
+    const std::vector<StencilOrder> by_field = stencil_orders(centres, normals, Vec3::UnitX(), tangents);
+    std::complex<double> sum = 0;
+    for (const StencilOrder& o : by_field)
+      if (o.has_axis && std::abs(o.p4) >= 0.5) sum += o.p4;
+    if (std::abs(sum) > 0) {
+      out.field_angle = std::arg(sum) / 4;
+      std::vector<double> misfit;
+      for (const StencilOrder& o : by_field)
+        if (o.has_axis && std::abs(o.p4) >= 0.5)
+          misfit.push_back(std::abs(std::arg(o.p4 * std::polar(1.0, -4 * out.field_angle))) / 4 * 180 / std::numbers::pi);
+      out.field_misfit = median(misfit);
+      if (out.field_misfit <= 10) {
+        out.follows_field = true;
+        out.square = true;
+        out.turning = false;
+      }
+    }
+  }
   return out;
 }
 
 void stencil_frames(const FaceBvh& bvh, const TangentField& field, std::span<const StencilParams> stencils,
-                    RowMatX3d& centres, RowMatX3d& normals) {
+                    RowMatX3d& centres, RowMatX3d& normals, RowMatX3d* tangents) {
   centres.resize(Eigen::Index(stencils.size()), 3);
   normals.resize(Eigen::Index(stencils.size()), 3);
+  if (tangents) tangents->resize(Eigen::Index(stencils.size()), 3);
   for (std::size_t i = 0; i < stencils.size(); ++i) {
     const Frame f = compute_frame(bvh, field, stencils[i].position, nullptr);
     centres.row(Eigen::Index(i)) = f.origin.transpose();
     normals.row(Eigen::Index(i)) = f.normal.transpose();
+    if (tangents) tangents->row(Eigen::Index(i)) = f.tangent.transpose();
   }
+}
+
+void attach_lattice_field(MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field) {
+  if (!mechanics.lattice_follows_field) {
+    mechanics.lattice_axis_at = nullptr;
+    return;
+  }
+  const double c = std::cos(mechanics.lattice_field_angle), s = std::sin(mechanics.lattice_field_angle);
+  mechanics.lattice_axis_at = [&bvh, &field, c, s](const Vec3& point) {
+    const Frame f = compute_frame(bvh, field, point, nullptr);
+    return Vec3(c * f.tangent + s * f.bitangent);
+  };
 }
 
 }  // namespace cutwork

@@ -21,6 +21,7 @@
 #include <span>
 
 #include "host/core/types.h"
+#include "host/scene/load_case.h"
 #include "host/stencil/frame.h"
 
 namespace cutwork {
@@ -38,7 +39,10 @@ struct LatticeOrder {
 /// The order of stencils centred at `centres` (#S×3, m) on a surface of unit normals `normals`
 /// (#S×3) there, with angles from `axis` (a direction, projected onto each tangent plane).
 /// Throws InputError for sizes that do not match or non-finite entries.
-LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis);
+/// With `axes` (#S×3), each stencil's angles are measured from its own row instead (a lattice whose
+/// axis follows the orientation field).
+LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& normals, const Vec3& axis,
+                                   const RowMatX3d* axes = nullptr);
 
 /// The lattice the stencils lie on, read from them where the scene leaves it to them
 /// (`mechanics.lattice` "auto"): square along `axis`, or not (the hexagonal lattice's isotropic
@@ -50,19 +54,31 @@ LatticeOrder measure_lattice_order(const RowMatX3d& centres, const RowMatX3d& no
 /// axis of the scene, and the one whose projection best fits every stencil's axis (the sum of
 /// |ψ₄| cos 4Δ) is kept; `order` is then measured from it. The stencils are on a square lattice
 /// when `order.square` ≥ 0.7 and `order.hexagonal` < 0.5 (the rule of the reports' note) and
-/// that one axis fits: its median misfit `order.axis_misfit` ≤ 10° (a square lattice turning over
-/// the surface has no one axis: `turning` is set, `square` is not).
+/// that one axis fits: its median misfit `order.axis_misfit` ≤ 10°. A square lattice turning over
+/// the surface has no one axis; given the orientation field's direction at each stencil
+/// (`tangents`, #S×3), such a lattice may follow the field: each stencil's axes measured from its
+/// own t, at a constant angle δ₀ (arg Σ ψ₄ / 4) within a median 10° — `follows_field`, `square`
+/// then set. Otherwise `turning` is set and `square` is not.
 struct MeasuredLattice {
   bool square = false;
-  bool turning = false;           ///< square order, but no one axis fits it within 10°
+  bool turning = false;           ///< square order, but neither one axis nor the field fits it
   Vec3 axis = Vec3::UnitX();      ///< the best-fitting axis (unit; x where no stencil has |ψ₄| ≥ 0.5)
   LatticeOrder order;             ///< measured from `axis`
+  bool follows_field = false;     ///< the axes are the field's direction turned by field_angle
+  double field_angle = 0;         ///< δ₀ (rad, in (−π/4, π/4])
+  double field_misfit = NAN;      ///< median misfit from it (degrees; NaN where not measured)
 };
-MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& normals);
+MeasuredLattice measure_lattice(const RowMatX3d& centres, const RowMatX3d& normals,
+                                const RowMatX3d* tangents = nullptr);
 
-/// The centres and unit normals (#S×3) of `stencils` at their frames on the surface (`bvh`,
-/// `field`): what the two measurements above read.
+/// The centres, unit normals and the field's directions t (#S×3) of `stencils` at their frames on
+/// the surface (`bvh`, `field`): what the two measurements above read.
 void stencil_frames(const FaceBvh& bvh, const TangentField& field, std::span<const StencilParams> stencils,
-                    RowMatX3d& centres, RowMatX3d& normals);
+                    RowMatX3d& centres, RowMatX3d& normals, RowMatX3d* tangents = nullptr);
+
+/// Sets mechanics.lattice_axis_at where mechanics.lattice_follows_field (clears it otherwise): the
+/// field's direction at the closest point of the surface, turned by lattice_field_angle about the
+/// normal there. `bvh` and `field` must outlive every copy of the settings that is used.
+void attach_lattice_field(MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field);
 
 }  // namespace cutwork

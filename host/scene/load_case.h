@@ -3,6 +3,7 @@
 /// JSON. Built by host/scene (resolve_load_case) and consumed by solvers/.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -150,6 +151,15 @@ struct MechanicsSettings {
   /// read from fixed stencils (solvers/report/run_report.h measured_lattice: simulate's and verify's
   /// stencils, a design's layout when its structural phase starts).
   LatticeSource lattice_source = LatticeSource::Scene;
+  /// The square lattice's axes follow the orientation field (scene "lattice_axis": "field", or
+  /// "auto" reading stencils whose lattice turns with it): at a point, the field's direction t
+  /// turned by lattice_field_angle (rad) about the normal. The model reads it through
+  /// lattice_axis_at (a tangent direction at a point of the surface), which the host attaches
+  /// (it holds the field: host/pattern/lattice_order.h attach_lattice_field); lattice_axis is
+  /// then unused.
+  bool lattice_follows_field = false;
+  double lattice_field_angle = 0;
+  std::function<Vec3(const Vec3& point)> lattice_axis_at;
   /// The calibrated curve; required (non-empty) when stiffness is Homogenised.
   FillStiffnessCurve stiffness_curve;
   /// The radius (m) at a stencil's corners W_peak reads its factors by corner at (corner_radius /

@@ -224,9 +224,15 @@ MechanicsSettings parse_mechanics_section(JsonObjectReader& root) {
     m.fail("lattice_axis", fmt::format("is only read with \"lattice\": \"square\" ({})",
                                        lattice == "auto" ? "with \"auto\" the stencils' own axis is measured"
                                                          : "a hexagonal lattice is isotropic in its plane"));
-  const Vec3 axis = m.vec3("lattice_axis", Vec3::UnitX());
-  if (!(axis.norm() > 1e-12)) m.fail("lattice_axis", "must be a non-zero direction");
-  mechanics.lattice_axis = axis.normalized();
+  // "field": the lattice's axes follow the orientation field (a square-grid exemplar laid along a
+  // field that turns over a curved shell).
+  if (const nlohmann::json* given = m.child("lattice_axis"); given && given->is_string()) {
+    if (m.string("lattice_axis", "", {"field"}) == "field") mechanics.lattice_follows_field = true;
+  } else {
+    const Vec3 axis = m.vec3("lattice_axis", Vec3::UnitX());
+    if (!(axis.norm() > 1e-12)) m.fail("lattice_axis", "must be a non-zero direction or \"field\"");
+    mechanics.lattice_axis = axis.normalized();
+  }
   m.finish();
   return mechanics;
 }
@@ -527,7 +533,8 @@ nlohmann::ordered_json scene_to_json(const Scene& s) {
                                 : s.mechanics.lattice == PerforationLattice::Square ? "square"
                                                                                     : "hexagonal"}};
   if (s.mechanics.lattice_source == LatticeSource::Scene && s.mechanics.lattice == PerforationLattice::Square)
-    j["mechanics"]["lattice_axis"] = vec3_json(s.mechanics.lattice_axis);
+    j["mechanics"]["lattice_axis"] =
+        s.mechanics.lattice_follows_field ? json("field") : vec3_json(s.mechanics.lattice_axis);
   j["supports"] = json::array();
   for (const auto& sp : s.supports) {
     json support = {{"type", sp.kind == SupportKind::Clamped    ? "clamped"

@@ -43,7 +43,7 @@ std::string choose_simulation_mesh(const Scene& scene, SceneMeshes& meshes, cons
 
   // The uncut shell on the file's mesh, with the scene's mechanics (what the run solves first).
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
-  const MechanicsSettings mechanics = scene_mechanics(scene);
+  const MechanicsSettings mechanics = uncut_scene_mechanics(scene);
   const ShellModel model(meshes.sim, scene.material, lc, mechanics);
   EquilibriumSolver solver(model, options.newton);
   const Eigen::VectorXd solid = Eigen::VectorXd::Ones(meshes.sim.num_faces());

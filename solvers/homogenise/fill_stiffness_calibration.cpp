@@ -311,20 +311,25 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
 
 MechanicsSettings measured_lattice(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
                                    std::span<const StencilParams> stencils, std::vector<std::string>& notes) {
-  if (mechanics.lattice_source == LatticeSource::Scene || stencils.empty()) return mechanics;
-  RowMatX3d centres, normals;
-  stencil_frames(bvh, field, stencils, centres, normals);
-  const MeasuredLattice measured = measure_lattice(centres, normals);
   MechanicsSettings m = mechanics;
-  m.lattice_source = LatticeSource::Stencils;
-  m.lattice = measured.square ? PerforationLattice::Square : PerforationLattice::Hexagonal;
-  m.lattice_axis = measured.square ? measured.axis : Vec3::UnitX();
-  if (measured.turning)
-    notes.push_back(fmt::format(
-        "the stencils lie on a square lattice (median |psi4| {:.2f}) whose axes turn over the surface (a median "
-        "{:.0f} degrees from the best single axis): the model has one axis, so it takes the isotropic (hexagonal) "
-        "calibration, which is up to a third off in stretch along or at 45 degrees to the axes",
-        measured.order.square, measured.order.axis_misfit));
+  if (m.lattice_source != LatticeSource::Scene && !stencils.empty()) {
+    RowMatX3d centres, normals, tangents;
+    stencil_frames(bvh, field, stencils, centres, normals, &tangents);
+    const MeasuredLattice measured = measure_lattice(centres, normals, &tangents);
+    m.lattice_source = LatticeSource::Stencils;
+    m.lattice = measured.square ? PerforationLattice::Square : PerforationLattice::Hexagonal;
+    m.lattice_axis = measured.square && !measured.follows_field ? measured.axis : Vec3::UnitX();
+    m.lattice_follows_field = measured.follows_field;
+    m.lattice_field_angle = measured.follows_field ? measured.field_angle : 0.0;
+    if (measured.turning)
+      notes.push_back(fmt::format(
+          "the stencils lie on a square lattice (median |psi4| {:.2f}) whose axes turn over the surface (a median "
+          "{:.0f} degrees from the best single axis) and do not follow the orientation field either (a median {:.0f} "
+          "degrees from it): the model takes the isotropic (hexagonal) calibration, which is up to a third off in "
+          "stretch along or at 45 degrees to the axes",
+          measured.order.square, measured.order.axis_misfit, measured.field_misfit));
+  }
+  attach_lattice_field(m, bvh, field);
   return m;
 }
 
@@ -343,6 +348,12 @@ MechanicsSettings resolve_fill_stiffness(const MechanicsSettings& mechanics, con
 MechanicsSettings scene_mechanics(const Scene& scene, std::span<const StencilParams> stencils) {
   if (scene.mechanics.stiffness == FillStiffness::Linear) return scene.mechanics;
   return resolve_fill_stiffness(scene.mechanics, scene_stencil_library(scene), scene.material, stencils);
+}
+
+MechanicsSettings uncut_scene_mechanics(const Scene& scene) {
+  MechanicsSettings m = scene_mechanics(scene);
+  if (!m.lattice_axis_at) m.lattice_follows_field = false;
+  return m;
 }
 
 CellFilter scene_cell_filter(const Scene& scene, const PatternContext& ctx, const SurfaceMesh& sim) {

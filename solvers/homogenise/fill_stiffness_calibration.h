@@ -88,11 +88,20 @@ FillStiffnessCurve calibrate_fill_stiffness(const StencilLibrary& shapes, const 
 /// equal without stencils, where α = 1 and the weights do not matter).
 MechanicsSettings scene_mechanics(const Scene& scene, std::span<const StencilParams> stencils = {});
 
+/// scene_mechanics for a shell without stencils (every face whole: the checks before a run, the
+/// simulation mesh's choice). The square lattice's anisotropy vanishes at α = 1, so a lattice that
+/// follows the orientation field needs no field there (its axis function, not attached before the
+/// pattern context exists, is not asked for).
+MechanicsSettings uncut_scene_mechanics(const Scene& scene);
+
 /// `mechanics` with its lattice read from `stencils` (at their frames on `bvh` with `field`) where
 /// the scene left it to them (lattice_source Auto; host/pattern/lattice_order.h measure_lattice):
-/// square along the measured axis, or hexagonal, lattice_source then Stencils. A stated lattice,
-/// and an Auto one without stencils, are returned as they are. Appends a note where the stencils
-/// form a square lattice whose axes turn over the surface (no one axis fits it: the isotropic
+/// square along the measured axis, square along the orientation field (turned by a measured
+/// angle) where the lattice turns with it, or hexagonal; lattice_source then Stencils. A stated
+/// lattice, and an Auto one without stencils, keep what they say. Where the lattice follows the
+/// field (stated "lattice_axis": "field" or so read), the axis function is attached
+/// (attach_lattice_field: `bvh` and `field` must outlive the settings' use). Appends a note where
+/// the stencils form a square lattice that neither one axis nor the field fits (the isotropic
 /// calibration is kept). Call before the stiffness is calibrated (resolve_fill_stiffness), which
 /// the lattice decides.
 MechanicsSettings measured_lattice(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,

@@ -92,7 +92,8 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
                         PatternContext& ctx, const DesignOptions& options) {
   DesignResult r;
   Stopwatch sw;
-  r.mechanics = scene.mechanics;
+  // A lattice stated to follow the orientation field reads it through the pattern context's field.
+  r.mechanics = measured_lattice(scene.mechanics, ctx.surface().bvh(), ctx.surface().field(), {}, r.notes);
   auto build_shell = [&] {
     auto shell = std::make_unique<StencilledShell>(meshes.sim, ctx.surface().bvh(), scene.material, r.mechanics,
                                                    load_case, ctx.shapes(), ctx.surface().field(), options.fill);
@@ -119,7 +120,7 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.mechanics = measured_lattice(scene.mechanics, ctx.surface().bvh(), ctx.surface().field(),
                                  layout_params(r.pattern.layout), r.notes);
   StencilledShell::StageTimes before;  // of a shell the lattice's reading replaced
-  if (r.mechanics.lattice != scene.mechanics.lattice) {
+  if (r.mechanics.lattice != scene.mechanics.lattice || r.mechanics.lattice_follows_field != scene.mechanics.lattice_follows_field) {
     sw.restart();
     before = shell_ptr->times();
     shell_ptr = build_shell();

@@ -25,14 +25,17 @@ namespace cutwork::solvers {
 
 namespace {
 
-/// The scene as the design modelled it: its "auto" lattice read from the pattern's layout
-/// (DesignResult::mechanics).
+/// The scene as the design modelled it: its "auto" lattice read from the pattern's layout, a
+/// lattice that follows the field with the field's axis function attached (DesignResult::mechanics).
 Scene as_designed(const Scene& scene, const DesignResult& r) {
   Scene s = scene;
-  if (r.mechanics.lattice_source == LatticeSource::Stencils) {
+  if (r.mechanics.lattice_source == LatticeSource::Stencils || r.mechanics.lattice_follows_field) {
     s.mechanics.lattice = r.mechanics.lattice;
     s.mechanics.lattice_axis = r.mechanics.lattice_axis;
     s.mechanics.lattice_source = r.mechanics.lattice_source;
+    s.mechanics.lattice_follows_field = r.mechanics.lattice_follows_field;
+    s.mechanics.lattice_field_angle = r.mechanics.lattice_field_angle;
+    s.mechanics.lattice_axis_at = r.mechanics.lattice_axis_at;
   }
   return s;
 }

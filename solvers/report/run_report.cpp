@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -32,7 +33,14 @@ nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const Face
                            : mechanics.lattice_source == LatticeSource::Stencils
                                ? "mechanics.lattice (auto) was read from the stencils as"
                                : "mechanics.lattice (auto, no stencils to read) is";
-  const LatticeOrder o = measure_lattice_order(centres, normals, mechanics.lattice_axis);
+  // The angles from the axis the model used: the one axis, or the field's at each stencil.
+  RowMatX3d axes;
+  if (square && mechanics.lattice_follows_field && mechanics.lattice_axis_at) {
+    axes.resize(centres.rows(), 3);
+    for (Eigen::Index i = 0; i < centres.rows(); ++i)
+      axes.row(i) = mechanics.lattice_axis_at(centres.row(i).transpose()).transpose();
+  }
+  const LatticeOrder o = measure_lattice_order(centres, normals, mechanics.lattice_axis, axes.rows() ? &axes : nullptr);
   if (o.stencils > 0) {
     if (!square && o.square >= 0.7 && o.hexagonal < 0.5 && mechanics.lattice_source != LatticeSource::Stencils)
       notes.push_back(fmt::format(
@@ -62,7 +70,12 @@ nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const Face
                "the neighbours' angles in the tangent plane from the projected lattice_axis; medians. \"auto\" reads "
                "square where those medians are >= 0.7 and < 0.5 and one axis fits the stencils' own within 10 "
                "degrees (median)"}};
-  if (square) out["used_axis"] = {mechanics.lattice_axis.x(), mechanics.lattice_axis.y(), mechanics.lattice_axis.z()};
+  if (square && mechanics.lattice_follows_field) {
+    out["used_axis"] = "field";
+    out["used_field_angle_degrees"] = mechanics.lattice_field_angle * 180 / std::numbers::pi;
+  } else if (square) {
+    out["used_axis"] = {mechanics.lattice_axis.x(), mechanics.lattice_axis.y(), mechanics.lattice_axis.z()};
+  }
   return out;
 }
 
@@ -97,8 +110,12 @@ nlohmann::json base_report(const Scene& scene, const SceneMeshes& meshes, const 
                     {"lattice_source", mechanics.lattice_source == LatticeSource::Scene      ? "scene"
                                        : mechanics.lattice_source == LatticeSource::Stencils ? "stencils"
                                                                                              : "auto without stencils"}};
-  if (mechanics.lattice == PerforationLattice::Square)
+  if (mechanics.lattice == PerforationLattice::Square && mechanics.lattice_follows_field) {
+    r["mechanics"]["lattice_axis"] = "field";
+    r["mechanics"]["lattice_field_angle_degrees"] = mechanics.lattice_field_angle * 180 / std::numbers::pi;
+  } else if (mechanics.lattice == PerforationLattice::Square) {
     r["mechanics"]["lattice_axis"] = {mechanics.lattice_axis.x(), mechanics.lattice_axis.y(), mechanics.lattice_axis.z()};
+  }
   if (!mechanics.stiffness_curve.empty()) {
     const FillStiffnessCurve& c = mechanics.stiffness_curve;
     r["mechanics"]["stiffness_curve"] = {{"alpha", c.alpha}, {"membrane_ratio", c.membrane}, {"bending_ratio", c.bending}};

@@ -326,10 +326,19 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
     if (m_mechanics.lattice != PerforationLattice::Square)
       throw InputError("an anisotropic stiffness curve is the square lattice's: mechanics.lattice must be square");
     m_lattice_orientation.assign(std::size_t(nf), Eigen::Vector2d::Zero());
-    const Vec3 axis = m_mechanics.lattice_axis.normalized();
+    // One axis for the shell, or the orientation field's at each face's centroid (the host's
+    // function: attach_lattice_field).
+    const bool by_field = m_mechanics.lattice_follows_field;
+    if (by_field && !m_mechanics.lattice_axis_at)
+      throw InternalError("ShellModel: the square lattice follows the orientation field, but no axis function is "
+                          "attached (attach_lattice_field)");
+    const Vec3 global = m_mechanics.lattice_axis.normalized();
     for (int f = 0; f < nf; ++f) {
       const Vec3 e1 = X.row(F(f, 1)) - X.row(F(f, 0)), e2 = X.row(F(f, 2)) - X.row(F(f, 0));
       const Vec3 n = e1.cross(e2).normalized(), u1 = e1.normalized(), u2 = n.cross(u1);
+      const Vec3 axis =
+          by_field ? m_mechanics.lattice_axis_at((X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3)
+                   : global;
       const Eigen::Vector2d a(axis.dot(u1), axis.dot(u2));
       if (a.norm() < 1e-3) continue;
       const double phi = std::atan2(a.y(), a.x());

@@ -155,6 +155,44 @@ TEST(LatticeOrder, AutoDoesNotGiveATurningGridOneAxis) {
   EXPECT_NEAR(m.order.axis_misfit, 30.0, 1e-6);
 }
 
+// The same three patches, each stencil given the field's direction 10° past its patch's axis: the
+// lattice follows the field (δ₀ = −10°), and is square; with the field's directions at random it
+// does not.
+TEST(LatticeOrder, AutoFollowsAFieldTheLatticeTurnsWith) {
+  RowMatX3d c(0, 3), nrm(0, 3), pc, pn;
+  std::vector<double> patch_angle;
+  for (int k = 0; k < 3; ++k) {
+    lattice(10, Eigen::Vector2d(0, 1), 30.0 * k * kDegree, 0, pc, pn);
+    append(c, nrm, pc, pn, Vec3(30.0 * k, 0, 0));
+    patch_angle.insert(patch_angle.end(), size_t(pc.rows()), (30.0 * k + 10) * kDegree);
+  }
+  RowMatX3d t(c.rows(), 3);
+  for (Eigen::Index i = 0; i < c.rows(); ++i)
+    t.row(i) = Vec3(std::cos(patch_angle[size_t(i)]), std::sin(patch_angle[size_t(i)]), 0).transpose();
+  const MeasuredLattice m = measure_lattice(c, nrm, &t);
+  EXPECT_TRUE(m.square);
+  EXPECT_TRUE(m.follows_field);
+  EXPECT_FALSE(m.turning);
+  EXPECT_NEAR(m.field_angle, -10 * kDegree, 1e-9);
+  EXPECT_NEAR(m.field_misfit, 0.0, 1e-6);
+  // Measured from the field's axes (t turned by δ₀) the order has no misfit.
+  RowMatX3d axes(c.rows(), 3);
+  for (Eigen::Index i = 0; i < c.rows(); ++i)
+    axes.row(i) = Vec3(std::cos(patch_angle[size_t(i)] - 10 * kDegree), std::sin(patch_angle[size_t(i)] - 10 * kDegree), 0).transpose();
+  EXPECT_NEAR(measure_lattice_order(c, nrm, Vec3::UnitX(), &axes).axis_misfit, 0.0, 1e-6);
+
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 2 * std::numbers::pi);
+  for (Eigen::Index i = 0; i < c.rows(); ++i) {
+    const double a = u(rng);
+    t.row(i) = Vec3(std::cos(a), std::sin(a), 0).transpose();
+  }
+  const MeasuredLattice random = measure_lattice(c, nrm, &t);
+  EXPECT_FALSE(random.follows_field);
+  EXPECT_FALSE(random.square);
+  EXPECT_TRUE(random.turning);
+}
+
 TEST(LatticeOrder, RejectsMismatchedInput) {
   RowMatX3d c(5, 3), nrm(4, 3);
   c.setZero();

@@ -125,6 +125,15 @@ TEST(Scene, WrongTypesAndRangesNameTheAcceptedRange) {
   expect_rejected(d, {"/mechanics/lattice_axis", "non-zero"});
   d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", {0, 2, 0}}};
   EXPECT_DOUBLE_EQ(parse_scene(d, "test").mechanics.lattice_axis[1], 1.0);
+  EXPECT_FALSE(parse_scene(d, "test").mechanics.lattice_follows_field);
+  // Or the orientation field's direction ("field"), which a scene written back keeps.
+  d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", "field"}};
+  EXPECT_TRUE(parse_scene(d, "test").mechanics.lattice_follows_field);
+  EXPECT_EQ(scene_to_json(parse_scene(d, "test"))["mechanics"]["lattice_axis"], "field");
+  d["mechanics"] = {{"lattice", "square"}, {"lattice_axis", "swirl"}};
+  expect_rejected(d, {"/mechanics/lattice_axis", "field"});
+  d["mechanics"] = {{"lattice_axis", "field"}};
+  expect_rejected(d, {"/mechanics/lattice_axis", "square", "auto"});
   // Where the coarse model puts a load spread over the surface: on the material (default) or by
   // area (the paper's); nothing else, and a scene written back keeps it.
   d = minimal_scene();

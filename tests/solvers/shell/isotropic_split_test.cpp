@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include "host/core/internal_error.h"
+
 #include "solvers/objective/energy_density.h"
 #include "solvers/objective/peak_energy_density.h"
 #include "solvers/shell/fill_ratio_partials.h"
@@ -137,6 +139,16 @@ struct FlatPlate {
     mech.stiffness_curve = test::test_square_stiffness_curve();
     mech.lattice = PerforationLattice::Square;
     mech.lattice_axis = axis;
+    return ShellModel(mesh, test::pa12(), lc, mech);
+  }
+  /// The same, the lattice's axis following a field: `axis_at` a point (mechanics.lattice_axis_at).
+  ShellModel square_by_field(std::function<Vec3(const Vec3&)> axis_at) const {
+    MechanicsSettings mech;
+    mech.stiffness = FillStiffness::Homogenised;
+    mech.stiffness_curve = test::test_square_stiffness_curve();
+    mech.lattice = PerforationLattice::Square;
+    mech.lattice_follows_field = true;
+    mech.lattice_axis_at = std::move(axis_at);
     return ShellModel(mesh, test::pa12(), lc, mech);
   }
 };
@@ -293,6 +305,26 @@ TEST(SquareLattice, TheAxisIsProjectedOntoEachFace) {
     if (normal.element(e).part == FillPart::Anisotropy) {
       EXPECT_EQ(unit[e], 0.0);
     }
+}
+
+// A lattice that follows the orientation field reads its axis at each face's centroid: a constant
+// field is the one axis; a field that turns with x gives each face its own centroid's axis; without
+// the field's function attached the model refuses to guess.
+TEST(SquareLattice, AnAxisThatFollowsAFieldIsReadAtEachFace) {
+  const FlatPlate p;
+  const Vec3 a(std::cos(0.4), std::sin(0.4), 0);
+  const ShellModel one = p.square(a), constant = p.square_by_field([&](const Vec3&) { return a; });
+  for (int f = 0; f < p.mesh.num_faces(); ++f)
+    EXPECT_EQ((one.lattice_orientation()[size_t(f)] - constant.lattice_orientation()[size_t(f)]).norm(), 0.0);
+  const ShellModel turning = p.square_by_field([](const Vec3& q) { return Vec3(std::cos(3 * q.x()), std::sin(3 * q.x()), 0); });
+  const auto& F = p.mesh.faces();
+  const RowMatX3d& X = p.mesh.vertices();
+  for (int f = 0; f < p.mesh.num_faces(); f += 7) {  // one model per sampled face
+    const Vec3 c = (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3;
+    const ShellModel here = p.square(Vec3(std::cos(3 * c.x()), std::sin(3 * c.x()), 0));
+    EXPECT_NEAR((turning.lattice_orientation()[size_t(f)] - here.lattice_orientation()[size_t(f)]).norm(), 0.0, 1e-12);
+  }
+  EXPECT_THROW(p.square_by_field(nullptr), InternalError);
 }
 
 }  // namespace
