@@ -333,17 +333,21 @@ ShellModel::ShellModel(const SurfaceMesh& mesh, const Material& material, const 
       throw InternalError("ShellModel: the square lattice follows the orientation field, but no axis function is "
                           "attached (attach_lattice_field)");
     const Vec3 global = m_mechanics.lattice_axis.normalized();
-    for (int f = 0; f < nf; ++f) {
-      const Vec3 e1 = X.row(F(f, 1)) - X.row(F(f, 0)), e2 = X.row(F(f, 2)) - X.row(F(f, 0));
-      const Vec3 n = e1.cross(e2).normalized(), u1 = e1.normalized(), u2 = n.cross(u1);
-      const Vec3 axis =
-          by_field ? m_mechanics.lattice_axis_at((X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3)
-                   : global;
-      const Eigen::Vector2d a(axis.dot(u1), axis.dot(u2));
-      if (a.norm() < 1e-3) continue;
-      const double phi = std::atan2(a.y(), a.x());
-      m_lattice_orientation[std::size_t(f)] = Eigen::Vector2d(std::cos(4 * phi), std::sin(4 * phi));
-    }
+    // (In parallel: the field's axis is a closest-point query per face; TangentField is safe to
+    // call concurrently.)
+    tbb::parallel_for(tbb::blocked_range<int>(0, nf, 512), [&](const tbb::blocked_range<int>& range) {
+      for (int f = range.begin(); f < range.end(); ++f) {
+        const Vec3 e1 = X.row(F(f, 1)) - X.row(F(f, 0)), e2 = X.row(F(f, 2)) - X.row(F(f, 0));
+        const Vec3 n = e1.cross(e2).normalized(), u1 = e1.normalized(), u2 = n.cross(u1);
+        const Vec3 axis =
+            by_field ? m_mechanics.lattice_axis_at((X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3)
+                     : global;
+        const Eigen::Vector2d a(axis.dot(u1), axis.dot(u2));
+        if (a.norm() < 1e-3) continue;
+        const double phi = std::atan2(a.y(), a.x());
+        m_lattice_orientation[std::size_t(f)] = Eigen::Vector2d(std::cos(4 * phi), std::sin(4 * phi));
+      }
+    });
   }
   if (m_mechanics.bending == BendingModel::ShapeOperator)
     build_bends();
