@@ -118,9 +118,22 @@ void add_check_command(CLI::App& app) {
     }
     const double uncut_seconds = uncut_clock.seconds();
     size_t stencil_count = 0;
+    std::string lattice_line;  // what simulate and verify would model these stencils' lattice as
     if (!stencils->empty()) {
       const StencilBounds bounds{meshes.base.bbox_min(), meshes.base.bbox_max()};
-      stencil_count = read_stencils_json(*stencils, ctx.shapes(), &bounds).stencils.size();
+      const std::vector<StencilParams> read = read_stencils_json(*stencils, ctx.shapes(), &bounds).stencils;
+      stencil_count = read.size();
+      std::vector<std::string> lattice_notes;
+      const MechanicsSettings m = solvers::measured_lattice(scene.mechanics, ctx.surface().bvh(), ctx.surface().field(),
+                                                            read, lattice_notes);
+      lattice_line = m.lattice == PerforationLattice::Hexagonal ? "hexagonal (isotropic)"
+                     : m.lattice_follows_field
+                         ? fmt::format("square, along the orientation field turned by {:.1f} degrees",
+                                       m.lattice_field_angle * 180 / std::numbers::pi)
+                         : fmt::format("square, along ({:.3f}, {:.3f}, {:.3f})", m.lattice_axis.x(), m.lattice_axis.y(),
+                                       m.lattice_axis.z());
+      lattice_line += m.lattice_source == LatticeSource::Stencils ? ", read from the stencils" : ", as the scene states";
+      for (const std::string& n : lattice_notes) lattice_line += "; note: " + n;
     }
     if (!notice.empty()) std::cout << "note: " << notice << "\n";
     std::cout << "scene " << excerpt(scene.name) << (scene.description.empty() ? "" : ": " + excerpt(scene.description, 200))
@@ -187,7 +200,8 @@ void add_check_command(CLI::App& app) {
       std::cout << "uncut equilibrium: not solved (--no-equilibrium)\n";
     std::cout << fmt::format("stencil shapes: {}; pattern: about {:.0f} stencils (estimated)\n", scene.shapes.size(),
                              estimate_stencil_count(scene.pattern, meshes.base));
-    if (!stencils->empty()) std::cout << fmt::format("stencils file: {} stencils\n", stencil_count);
+    if (!stencils->empty())
+      std::cout << fmt::format("stencils file: {} stencils; perforation lattice {}\n", stencil_count, lattice_line);
     std::cout << "ok\n";
   });
 }

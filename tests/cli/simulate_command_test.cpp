@@ -246,6 +246,11 @@ TEST(CliSimulate, AnAutoLatticeIsReadFromTheStencils) {
     err = r.err;
     return read_json(dir / name / "report.json");
   };
+  // `check --stencils` says what simulate will model them as.
+  const auto checked = run_cutwork("check plate --no-equilibrium --stencils " + file.string());
+  EXPECT_EQ(checked.exit_code, 0) << checked.err;
+  EXPECT_NE(checked.out.find("perforation lattice square"), std::string::npos) << checked.out;
+  EXPECT_NE(checked.out.find("read from the stencils"), std::string::npos) << checked.out;
   const auto automatic = simulate("auto", nlohmann::json::object());
   const auto stated = simulate("square", {{"lattice", "square"}, {"lattice_axis", {a1.x(), a1.y(), 0.0}}});
   const auto hexagonal = simulate("hexagonal", {{"lattice", "hexagonal"}});
