@@ -120,7 +120,8 @@ DesignResult run_design(const Scene& scene, const SceneMeshes& meshes, const Loa
   r.mechanics = measured_lattice(scene.mechanics, ctx.surface().bvh(), ctx.surface().field(),
                                  layout_params(r.pattern.layout), r.notes);
   StencilledShell::StageTimes before;  // of a shell the lattice's reading replaced
-  if (r.mechanics.lattice != scene.mechanics.lattice || r.mechanics.lattice_follows_field != scene.mechanics.lattice_follows_field) {
+  if (r.mechanics.lattice != scene.mechanics.lattice ||
+      r.mechanics.lattice_follows_field != scene.mechanics.lattice_follows_field) {
     sw.restart();
     before = shell_ptr->times();
     shell_ptr = build_shell();

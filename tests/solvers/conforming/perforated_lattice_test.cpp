@@ -22,7 +22,8 @@
 // CUTWORK_LATTICE_TABLE=1 prints the whole table (every shape, lattice, α, structure and size)
 // instead of the assertions' subset; CUTWORK_LATTICE_SHAPE (circle, star), _LATTICE (hex, square),
 // _ALPHA, _STRUCTURE (cantilever, clamped, tension) pick rows, _SIZES the triangle sizes,
-// _PLATE_SCALE a larger plate on the same lattice, _ANGLE (degrees) the lattice turned and
+// _PLATE_SCALE a larger plate on the same lattice, _PLATE="w,h" its width and height (m) instead,
+// _ANGLE (degrees) the lattice turned, _LEVELS the conforming reference's levels (3) and
 // _CALIBRATION=hexagonal the square cases under the hexagonal calibration.
 #include <gtest/gtest.h>
 
@@ -111,10 +112,11 @@ std::vector<StencilParams> lattice_stencils(const LatticeCase& c, double scale) 
                                                              std::sin(c.angle + std::numbers::pi / 3))
                                            : Eigen::Vector2d(-a1.y(), a1.x());
     const int n = int(std::ceil(2 * std::hypot(width, height) / kSpacing));
+    const double margin = kSpacing / 2;
     for (int j = -n; j <= n; ++j)
       for (int i = -n; i <= n; ++i) {
         const Eigen::Vector2d p = kSpacing * (i * a1 + j * a2);
-        if (std::abs(p.x()) > width / 2 - kSpacing / 2 + 1e-12 || std::abs(p.y()) > height / 2 - kSpacing / 2 + 1e-12)
+        if (std::abs(p.x()) > width / 2 - margin + 1e-12 || std::abs(p.y()) > height / 2 - margin + 1e-12)
           continue;
         StencilParams s;
         s.position = Vec3(p.x(), p.y(), 0);
@@ -178,7 +180,8 @@ Reference conforming_reference(const LatticeCase& c, double scale, std::span<con
   const LoadCase lc = resolve_load_case(scene, meshes.sim);
   ConformingOptions o;
   o.edge_length = scale / 2;
-  o.levels = 3;
+  // CUTWORK_LATTICE_LEVELS: more conforming levels (a tighter error bar, within max_faces).
+  o.levels = std::getenv("CUTWORK_LATTICE_LEVELS") ? std::stoi(std::getenv("CUTWORK_LATTICE_LEVELS")) : 3;
   o.tolerance = 0.01;
   o.max_faces = max_faces;
   const ConformingVerification v = verify_conforming(scene, meshes, lc, ctx, stencils, o);
@@ -476,6 +479,11 @@ TEST(PerforatedLattice, Table) {
           if (structure && std::string(structure) != kind) continue;
           if (lattice && (std::string(lattice) == "hex") != hex) continue;
           LatticeCase c{shape, hex, alpha, kind != "clamped", 0.2 * plate, 0.1 * plate};
+          if (const char* wh = std::getenv("CUTWORK_LATTICE_PLATE")) {
+            const std::string text = wh;
+            c.width = std::stod(text.substr(0, text.find(',')));
+            c.height = std::stod(text.substr(text.find(',') + 1));
+          }
           c.tension = kind == "tension";
           c.angle = angle;
           // CUTWORK_LATTICE_CALIBRATION=hexagonal: a square case with the hexagonal calibration.
