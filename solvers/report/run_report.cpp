@@ -24,8 +24,8 @@ const char* lattice_name(PerforationLattice lattice) {
 
 nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
                                   std::span<const StencilParams> stencils, std::vector<std::string>& notes) {
-  RowMatX3d centres, normals;
-  stencil_frames(bvh, field, stencils, centres, normals);
+  RowMatX3d centres, normals, tangents;
+  stencil_frames(bvh, field, stencils, centres, normals, &tangents);
   const bool square = mechanics.lattice == PerforationLattice::Square;
   // What the model used: stated by the scene, or read from the stencils ("auto"; for a design,
   // from its layout when the structural phase started, which these final stencils may have left).
@@ -42,7 +42,10 @@ nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const Face
   }
   const LatticeOrder o = measure_lattice_order(centres, normals, mechanics.lattice_axis, axes.rows() ? &axes : nullptr);
   if (o.stencils > 0) {
-    if (!square && o.square >= 0.7 && o.hexagonal < 0.5 && mechanics.lattice_source != LatticeSource::Stencils)
+    // Told where the square lattice is one the model could have used (one axis, or the field's):
+    // a turning one that neither fits is modelled best by the isotropic calibration (and a design
+    // whose stencils formed a square lattice after its lattice was read is told here too).
+    if (!square && o.square >= 0.7 && o.hexagonal < 0.5 && measure_lattice(centres, normals, &tangents).square)
       notes.push_back(fmt::format(
           "the stencils lie on a square lattice (median |psi4| {:.2f}, |psi6| {:.2f}) but {} "
           "hexagonal: the homogenised stiffness is then the hexagonal lattice's (bent along the square's axes up to 8% "
