@@ -37,10 +37,13 @@ nlohmann::json ligament_peak_json(const LigamentPeakSummary& summary, double thi
 /// The stencils' arrangement (host/pattern/lattice_order.h), measured at their frames on the
 /// surface (`bvh`, `field`) from the scene's lattice axis, as report.json's `lattice_order`: the
 /// stated lattice, how many stencils were measured, the median |ψ₄| (square) and |ψ₆| (hexagonal)
-/// and the square lattice's axes' median angle from the stated axis. Appends a line to `notes`
-/// where the arrangement and mechanics.lattice disagree: a square arrangement (|ψ₄| ≥ 0.7, |ψ₆| <
-/// 0.5) under the hexagonal calibration, a stated square lattice the stencils do not form
-/// (|ψ₄| < 0.5), or its axes more than 10° from lattice_axis.
+/// and the square lattice's axes' median angle from the axis the model used (lattice_axis, or the
+/// field's at each stencil where the lattice follows the field). Appends a line to `notes` where
+/// the arrangement and the lattice used disagree: a square arrangement (|ψ₄| ≥ 0.7, |ψ₆| < 0.5)
+/// under the hexagonal calibration where the model could have followed it (measure_lattice reads
+/// it as square: one axis or the field fits; a lattice read at a design's pattern end that the
+/// structural phase moved into one included), a square lattice used that the stencils do not form
+/// (|ψ₄| < 0.5), or its axes more than 10° from the axis used.
 nlohmann::json lattice_order_json(const MechanicsSettings& mechanics, const FaceBvh& bvh, const TangentField& field,
                                   std::span<const StencilParams> stencils, std::vector<std::string>& notes);
 
